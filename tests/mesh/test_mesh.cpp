@@ -46,3 +46,29 @@ TEST(Mesh, ThreeCellsOnOneFaceIsAnError)
     EXPECT_THROW(Mesh::from_tets(X, { { 0, 1, 2, 3 }, { 0, 2, 1, 4 }, { 0, 1, 2, 5 } }), MeshError);
     EXPECT_THROW(Mesh::from_tets(X, { { 0, 1, 2, 9 } }), MeshError);
 }
+
+#include "polycut/mesh/builders.hpp"
+
+TEST(Builders, GridsHaveExactVolumeAndConformingFaces)
+{
+    BoxGrid g;
+    g.lo = Vec3(0, 0, 0);
+    g.hi = Vec3(1.2, 0.2, 0.3);
+    g.cells = { 6, 2, 3 };
+    const double V = 1.2 * 0.2 * 0.3;
+    const Mesh h = hex_grid(g);
+    EXPECT_EQ(h.num_cells(), 36);
+    EXPECT_EQ(h.num_nodes(), 7 * 3 * 4);
+    EXPECT_NEAR(h.rest_volume(), V, 1e-14);
+    // Boundary quads: 2 (6*2 + 6*3 + 2*3) = 72.
+    EXPECT_EQ(h.boundary_faces().size(), 72u);
+    for (TetSplit split : { TetSplit::Kuhn6, TetSplit::Five }) {
+        const Mesh t = tet_grid(g, split);
+        EXPECT_EQ(t.num_cells(), 36 * (split == TetSplit::Kuhn6 ? 6 : 5));
+        EXPECT_NEAR(t.rest_volume(), V, 1e-14);
+        // Conforming: each boundary quad becomes exactly 2 boundary triangles.
+        EXPECT_EQ(t.boundary_faces().size(), 144u);
+        for (Index c = 0; c < t.num_cells(); ++c)
+            EXPECT_GT(t.cell_volume(c), 0.0);
+    }
+}
