@@ -1,0 +1,163 @@
+// Scene descriptions: what a scene file (JSON, docs/scenes.md) asks the simulator to build.
+// Plain data with SI units; parsing lives in scene.cpp (nlohmann-json stays private there).
+#pragma once
+
+#include "polycut/common/types.hpp"
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace polycut::scene {
+
+/// Where the mesh comes from.
+struct Geometry {
+    enum class Kind { Box, Implicit, SurfaceFile, MeshFile, RandomPlanes };
+    Kind kind = Kind::Box;
+    // Box and RandomPlanes
+    Vec3 origin = Vec3::Zero();          ///< min corner [m]
+    Vec3 size = Vec3::Constant(0.1);     ///< edge lengths [m]
+    Eigen::Vector3i cells { 4, 4, 4 };   ///< blocks along x, y, z
+    std::string elements = "tet";        ///< "tet" (split blocks) or "hex"
+    std::string tet_split = "kuhn6";     ///< "kuhn6" or "five"
+    int planes_per_cell = 0;             ///< RandomPlanes: random planes cutting each block
+    unsigned seed = 1;                   ///< RandomPlanes and meshing: random seed
+    // Implicit
+    std::string shape;                   ///< "sphere", "ellipsoid", "capsule", "blob"
+    Vec3 center = Vec3::Zero();          ///< [m]
+    Vec3 radii = Vec3::Constant(0.05);   ///< semi-axes [m] (sphere: radii.x())
+    double length = 0.1;                 ///< capsule segment length [m]
+    // Implicit and SurfaceFile
+    double cell_size = 0.01;             ///< target tet size [m]
+    // SurfaceFile and MeshFile
+    std::string path;                    ///< resolved against the scene file's directory
+    double scale = 1.0;                  ///< file units to metres
+};
+
+/// Isotropic Hookean material with Rayleigh damping D = alpha M + beta K.
+struct Material {
+    double youngs_modulus = 1e4;   ///< E [Pa]
+    double poisson_ratio = 0.45;   ///< nu, in [0, 0.5)
+    double density = 1000;         ///< rho [kg/m^3]
+    double rayleigh_mass = 0;      ///< alpha [1/s]
+    double rayleigh_stiffness = 0; ///< beta [s]
+};
+
+/// Polyhedral basis options (methods mvc and harmonic).
+struct Basis {
+    std::string rule = "heuristic"; ///< mvc: "heuristic" (000 eq. 14-16) or "reference"
+    int gauss_degree = 2;           ///< degree of the Gauss rule on the centroid tetrahedralization
+    double harmonic_xi = 0.1;       ///< 001 eq. 12 kernel offset, relative to cell size
+};
+
+struct Integrator {
+    std::string type = "implicit_euler"; ///< "static", "implicit_euler", "semi_implicit_euler"
+    double dt = 0.01;                    ///< time step [s]
+    bool corotated = true;               ///< corotational (true) or linear elasticity
+    std::string static_mode = "newton";  ///< static + corotated: "newton" or "fixed_point"
+    double tolerance = 1e-8;             ///< static: stop at ||r|| <= tol ||f_ext||
+    int max_iterations = 100;            ///< static: outer iterations
+};
+
+struct Solver {
+    std::string type = "pcg";                ///< "cholmod", "pcg" or "cg_relaxation" (static tet)
+    std::string preconditioner = "jacobi";   ///< pcg: "none", "jacobi", "block_jacobi", "lagged_cholesky"
+    double tolerance = 1e-6;                 ///< relative residual
+    int max_iterations = 2000;
+    int refactor_every = 0;                  ///< lagged_cholesky: refactor every k solves (0 = on demand)
+};
+
+/// Selects nodes by rest position.
+struct Selector {
+    enum class Kind { Box, Plane };
+    Kind kind = Kind::Box;
+    Vec3 min = Vec3::Zero(), max = Vec3::Zero(); ///< Box [m]
+    Vec3 point = Vec3::Zero();                   ///< Plane: a point on it [m]
+    Vec3 normal = Vec3::UnitX();                 ///< Plane: normal (normalized on load)
+    double tolerance = 1e-9;                     ///< Plane: distance [m]; Box: padding [m]
+};
+
+/// Fixed nodes: all three displacement components, or a subset ("x", "yz", ...).
+struct Fixed {
+    Selector where;
+    std::array<bool, 3> components { true, true, true };
+};
+
+/// A force on the tissue: at the node nearest a point or a probe, or a total force spread over
+/// the nodes of a region (uniform per node, or weighted by boundary area, a traction).
+struct Force {
+    enum class Kind { Point, Region };
+    Kind kind = Kind::Point;
+    Vec3 point = Vec3::Zero();     ///< Point: rest-space location [m]
+    std::string probe;             ///< Point: name of a probe instead of `point`
+    Selector region;               ///< Region
+    std::string distribution = "area"; ///< Region: "area" or "uniform"
+    Vec3 force = Vec3::Zero();     ///< total force [N]
+};
+
+struct Loads {
+    Vec3 gravity = Vec3::Zero(); ///< [m/s^2]
+    std::vector<Force> forces;
+};
+
+struct Probe {
+    std::string name;
+    Vec3 point = Vec3::Zero(); ///< rest-space location [m]
+};
+
+/// A scalpel sweep applied at a given tick (headless cut scenes).
+struct Sweep {
+    long tick = 0;                                   ///< tick at which it arrives
+    std::vector<std::array<Vec3, 3>> triangles;      ///< world-space sweep triangles [m]
+};
+
+struct Cutting {
+    std::string method = "split";   ///< "split" (mvc/harmonic, 000 sec. 5) or "snap" (tet, 002)
+    double snap_distance = 0.05;     ///< node snapping distance, relative to local cell size
+    double sliver_volume = 1e-3;     ///< cells below this fraction of their parent are merged
+    std::vector<Sweep> sweeps;
+};
+
+struct Camera {
+    bool automatic = true;
+    Vec3 position = Vec3::Zero(), target = Vec3::Zero(), up = Vec3::UnitZ(); ///< [m]
+    double fov_deg = 35;
+};
+
+struct Output {
+    long steps = 100;    ///< dynamic scenes: default number of steps for the runner
+    long vtu_every = 10; ///< write every k-th frame with --vtu
+};
+
+/// A whole scene.
+struct Scene {
+    std::string name;
+    std::string description;
+    std::string directory;   ///< directory of the scene file (for relative paths); "" inline
+    Geometry geometry;
+    std::string method = "tet"; ///< "tet", "hex", "mvc", "harmonic" ("dg" not yet available)
+    Basis basis;
+    Material material;
+    Integrator integrator;
+    Solver solver;
+    std::vector<Fixed> fixed;
+    Loads loads;
+    std::vector<Probe> probes;
+    Cutting cutting;
+    Camera camera;
+    Output output;
+};
+
+/// Parses a scene from JSON text. Throws polycut::SceneError whose where() is a JSON pointer
+/// to the offending field, with what is allowed. Unknown keys are errors. `directory` is used
+/// to resolve relative file paths.
+Scene parse_scene(const std::string& json_text, const std::string& directory = "");
+
+/// Reads and parses a scene file. Throws FileError if unreadable, SceneError if invalid.
+Scene load_scene(const std::string& path);
+
+/// True when the selector picks rest position X.
+bool selects(const Selector& s, const Vec3& X);
+
+} // namespace polycut::scene

@@ -1,0 +1,128 @@
+#include "polycut/common/error.hpp"
+#include "polycut/scene/scene.hpp"
+
+#include <filesystem>
+#include <gtest/gtest.h>
+
+using namespace polycut;
+using namespace polycut::scene;
+
+namespace {
+const char* kMinimal = R"({
+  "name": "block",
+  "geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]},
+  "material": {"youngs_modulus": 1e4, "poisson_ratio": 0.45, "density": 1000},
+  "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}],
+  "loads": {"gravity": [0, 0, -9.81]},
+  "probes": [{"name": "top", "point": [0.05, 0.05, 0.1]}]
+})";
+
+// Parses text and returns the JSON pointer of the SceneError it throws ("" if none).
+std::string error_pointer(const std::string& text)
+{
+    try {
+        parse_scene(text);
+    } catch (const SceneError& e) {
+        return e.where();
+    }
+    return "";
+}
+
+std::string with(const std::string& from, const std::string& to)
+{
+    std::string s = kMinimal;
+    const auto pos = s.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    return s.replace(pos, from.size(), to);
+}
+} // namespace
+
+TEST(Scene, MinimalSceneGetsDefaults)
+{
+    const Scene s = parse_scene(kMinimal);
+    EXPECT_EQ(s.name, "block");
+    EXPECT_EQ(s.method, "tet");
+    EXPECT_EQ(s.geometry.cells, Eigen::Vector3i(4, 4, 4));
+    EXPECT_DOUBLE_EQ(s.material.poisson_ratio, 0.45);
+    EXPECT_EQ(s.integrator.type, "implicit_euler");
+    ASSERT_EQ(s.fixed.size(), 1u);
+    EXPECT_TRUE(selects(s.fixed[0].where, Vec3(0.03, 0.02, 0.0)));
+    EXPECT_FALSE(selects(s.fixed[0].where, Vec3(0.03, 0.02, 0.001)));
+    EXPECT_DOUBLE_EQ(s.loads.gravity.z(), -9.81);
+    ASSERT_EQ(s.probes.size(), 1u);
+}
+
+TEST(Scene, ErrorsPointAtTheField)
+{
+    EXPECT_EQ(error_pointer(with("\"poisson_ratio\": 0.45", "\"poisson_ratio\": 0.5")),
+        "/material/poisson_ratio");
+    EXPECT_EQ(error_pointer(with("\"poisson_ratio\": 0.45", "\"poisson_ratio\": \"soft\"")),
+        "/material/poisson_ratio");
+    EXPECT_EQ(error_pointer(with("\"youngs_modulus\": 1e4", "\"youngs_modulus\": -3")),
+        "/material/youngs_modulus");
+    EXPECT_EQ(error_pointer(with("\"density\": 1000", "\"density\": 1000, \"colour\": 1")),
+        "/material/colour");
+    EXPECT_EQ(error_pointer(with("\"cells\": [4, 4, 4]", "\"cells\": [4, 0, 4]")),
+        "/geometry/cells/1");
+    EXPECT_EQ(error_pointer(with("\"size\": [0.1, 0.1, 0.1]", "\"size\": [0.1, 0.1]")),
+        "/geometry/size");
+    EXPECT_EQ(error_pointer(with("\"normal\": [0, 0, 1]", "\"normal\": [0, 0, 0]")),
+        "/fixed/0/plane/normal");
+    EXPECT_EQ(error_pointer(with("\"point\": [0.05, 0.05, 0.1]", "\"point\": [0.05, null, 0.1]")),
+        "/probes/0/point/1");
+    EXPECT_EQ(error_pointer(with("\"type\": \"box\"", "\"type\": \"cube\"")), "/geometry/type");
+    EXPECT_EQ(error_pointer(with("\"name\": \"block\",", "")), "/name");
+    EXPECT_EQ(error_pointer(with("\"name\": \"block\",", "\"name\": \"block\", \"extra\": {},")),
+        "/extra");
+    EXPECT_EQ(error_pointer("{\"name\": "), "/");
+    EXPECT_EQ(error_pointer("[1, 2]"), "/");
+}
+
+TEST(Scene, MessagesSayWhatIsAllowed)
+{
+    try {
+        parse_scene(with("\"poisson_ratio\": 0.45", "\"poisson_ratio\": 0.7"));
+        FAIL() << "no error";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("must be in [-0.999, 0.4999]"), std::string::npos)
+            << e.what();
+    }
+    try {
+        parse_scene(with("\"density\": 1000", "\"density\": 1000, \"colour\": 1"));
+        FAIL() << "no error";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("unknown key"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("youngs_modulus"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Scene, LoadsAndSweepsParse)
+{
+    const std::string text = with("\"loads\": {\"gravity\": [0, 0, -9.81]}",
+        R"("loads": {"forces": [{"plane": {"point": [0.1, 0, 0], "normal": [1, 0, 0]},
+             "force": [0, 0, -3]}, {"probe": "top", "force": [1, 0, 0]}]},
+           "cutting": {"sweeps": [{"tick": 3, "triangles": [[[0, 0, 0], [1, 0, 0], [0, 1, 0]]]}]})");
+    const Scene s = parse_scene(text);
+    ASSERT_EQ(s.loads.forces.size(), 2u);
+    EXPECT_EQ(s.loads.forces[0].kind, Force::Kind::Region);
+    EXPECT_EQ(s.loads.forces[1].probe, "top");
+    ASSERT_EQ(s.cutting.sweeps.size(), 1u);
+    EXPECT_EQ(s.cutting.sweeps[0].tick, 3);
+    EXPECT_EQ(error_pointer(with("\"loads\": {\"gravity\": [0, 0, -9.81]}",
+                  R"("loads": {"forces": [{"probe": "nowhere", "force": [0, 0, 1]}]})")),
+        "/loads/forces/0/probe");
+}
+
+TEST(Scene, EveryShippedSceneParses)
+{
+    const std::filesystem::path dir = std::filesystem::path(POLYCUT_SOURCE_DIR) / "assets/scenes";
+    int count = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        if (entry.path().extension() != ".json")
+            continue;
+        SCOPED_TRACE(entry.path().string());
+        EXPECT_NO_THROW(load_scene(entry.path().string()));
+        ++count;
+    }
+    EXPECT_GT(count, 0);
+}
