@@ -1,0 +1,125 @@
+// sim::Simulation, the facade the server, the runner and the tests use (DESIGN.md sec. 2): built
+// from a scene, it steps, applies forces, grabs and cuts, and hands out the surface. step()
+// never throws; bad input to the other calls throws polycut::InputError and changes nothing.
+#pragma once
+
+#include "polycut/common/types.hpp"
+#include "polycut/scene/scene.hpp"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace polycut::sim {
+
+/// What one tick did.
+struct StepReport {
+    long tick = 0;             ///< tick number after this step (first step -> 1)
+    double sim_time = 0;       ///< simulated time after this step [s]
+    double step_ms = 0;        ///< wall time of the whole step [ms]
+    double assembly_ms = 0;    ///< assembly of K and forces [ms]
+    double solve_ms = 0;       ///< linear solves [ms]
+    double cut_ms = 0;         ///< cuts applied at this tick, incl. cell set-up [ms]
+    int solver_iterations = 0; ///< PCG iterations (0 for a direct solve)
+    int newton_iterations = 0; ///< static scenes: outer iterations
+    double residual = 0;       ///< relative residual of the last solve
+    bool topology_changed = false;
+    bool rolled_back = false;  ///< the step failed and the state was restored
+    std::vector<std::string> warnings;
+};
+
+/// A force on the tissue, spread over the nodes within `radius` of a world-space point.
+struct ForceSpec {
+    Vec3 point = Vec3::Zero(); ///< world-space point [m]
+    Vec3 force = Vec3::Zero(); ///< total force [N]
+    double radius = 0.005;     ///< [m]; the nearest node is used if none lies within
+    double duration = 0;       ///< [s]; 0 = until removed
+};
+
+/// A grab: material points near `point` pulled toward `target` by a spring.
+struct GrabSpec {
+    Vec3 point = Vec3::Zero(); ///< world-space point picked [m]
+    double stiffness = 50;     ///< spring stiffness [N/m]
+    double radius = 0.005;     ///< [m]
+};
+
+/// Surface for streaming and rendering.
+struct Surface {
+    std::uint64_t topology_version = 0;
+    std::vector<float> positions;          ///< (#V x 3) world positions [m]
+    std::vector<std::uint32_t> triangles;  ///< (#T x 3)
+    std::vector<std::uint8_t> tags;        ///< (#T) 1 skin, 2 cut
+};
+
+/// What a cut did.
+struct CutSummary {
+    int triangles_applied = 0;
+    int cells_split = 0;
+    int nodes_added = 0;
+    int cells_before = 0, cells_after = 0;
+    bool topology_changed = false;
+    double cut_ms = 0;
+};
+
+/// Mesh figures the runner reports.
+struct MeshStats {
+    Index nodes = 0, cells = 0, boundary_triangles = 0, components = 0;
+    double rest_volume = 0; ///< [m^3]
+    bool surface_closed = false;
+};
+
+class Simulation {
+public:
+    /// Builds the mesh and model the scene asks for. Throws SceneError, FileError, MeshError.
+    explicit Simulation(scene::Scene scene);
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
+
+    const scene::Scene& scene() const;
+
+    /// Advances one tick (static scenes: solves to equilibrium once, then holds). Never throws.
+    StepReport step();
+    /// Back to the state right after construction (uncut mesh, zero displacement).
+    void reset();
+
+    long tick() const;
+    double time() const; ///< [s]
+    bool is_static() const;
+
+    /// Forces and grabs. Throw InputError (non-finite numbers, radius <= 0) without change.
+    long add_force(const ForceSpec& f);
+    bool remove_force(long id);
+    long grab(const GrabSpec& g);
+    bool move_grab(long id, const Vec3& target);
+    bool release(long id);
+
+    /// Cuts along world-space sweep triangles. Throws InputError for degenerate or non-finite
+    /// triangles without change; triangles outside the tissue change nothing.
+    CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles);
+
+    /// Surface in the current configuration.
+    Surface surface() const;
+    /// Positions only (#V x 3), for frames without a topology change.
+    void surface_positions(std::vector<float>& out) const;
+    std::uint64_t topology_version() const;
+
+    /// Displacement [m] at a named probe (interpolated in the cell that contains it).
+    Vec3 probe_displacement(const std::string& name) const;
+    MeshStats mesh_stats() const;
+    /// Node world positions (#N) [m].
+    const std::vector<Vec3>& positions() const;
+    /// Hash of the whole dynamic state (positions, velocities, topology) for determinism tests.
+    std::uint64_t state_hash() const;
+
+    /// Writes the volume mesh with displacement and stress fields as VTU.
+    void write_vtu(const std::string& path) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace polycut::sim
