@@ -1,0 +1,30 @@
+// Per-cell basis dispatch (DESIGN.md sec. 1): tets get P1, hexes Q1, general polyhedra a
+// polyhedral basis (mean value, 000; harmonic, 001) chosen by BasisOptions.
+#pragma once
+
+#include "polycut/basis/cell_integration.hpp"
+#include "polycut/mesh/mesh.hpp"
+
+namespace polycut::basis {
+
+/// Basis for cells that are neither tets nor hexes.
+enum class PolyBasis { MeanValue, Harmonic };
+
+/// Quadrature for polyhedral bases: Wicke's heuristic (vertex + face samples, 000), a reference
+/// rule (centroid tetrahedralization + Gauss, 001), or Monte Carlo (001).
+enum class PolyRule { Heuristic, Reference, MonteCarlo };
+
+/// Options of the per-cell bases.
+struct BasisOptions {
+    PolyBasis poly = PolyBasis::MeanValue; ///< basis of general polyhedra
+    PolyRule rule = PolyRule::Heuristic;   ///< quadrature of general polyhedra
+    int gauss_degree = 2;                  ///< degree of the tet rule inside PolyRule::Reference
+    double harmonic_xi = 0.1;              ///< MFS source offset of the harmonic basis (001), relative to the cell size
+};
+
+/// Integration data of cell `cell` of `mesh` in rest space: P1 for tets (exact, 1 point), Q1 for
+/// hexes (2x2x2 Gauss), the polyhedral basis of `options` otherwise. Throws MeshError naming the
+/// cell for an inverted or degenerate cell; std::logic_error for a basis that is not built in.
+CellIntegration integrate_cell(const mesh::Mesh& mesh, Index cell, const BasisOptions& options);
+
+} // namespace polycut::basis

@@ -1,0 +1,40 @@
+#include "polycut/basis/cell_basis.hpp"
+
+#include "polycut/basis/p1.hpp"
+#include "polycut/basis/q1.hpp"
+#include "polycut/common/error.hpp"
+
+#include <stdexcept>
+
+namespace polycut::basis {
+
+CellIntegration integrate_cell(const mesh::Mesh& mesh, Index cell, const BasisOptions& options)
+{
+    const mesh::Cell& c = mesh.cells.at(std::size_t(cell));
+    try {
+        switch (c.shape) {
+        case mesh::CellShape::Tet: {
+            std::array<Vec3, 4> X;
+            for (std::size_t i = 0; i < 4; ++i)
+                X[i] = mesh.rest[std::size_t(c.nodes.at(i))];
+            return p1_integration(X);
+        }
+        case mesh::CellShape::Hex: {
+            std::array<Vec3, 8> X;
+            for (std::size_t i = 0; i < 8; ++i)
+                X[i] = mesh.rest[std::size_t(c.nodes.at(i))];
+            return q1_integration(X, 2);
+        }
+        case mesh::CellShape::Polyhedron:
+            (void)options;
+            throw std::logic_error("polyhedral basis not built");
+        }
+    } catch (const MeshError& e) {
+        if (e.cell() >= 0)
+            throw;
+        throw MeshError(cell, -1, e.problem());
+    }
+    throw std::logic_error("unknown cell shape");
+}
+
+} // namespace polycut::basis
