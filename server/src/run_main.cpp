@@ -1,0 +1,116 @@
+// polycut-run: runs a scene without a server and prints one JSON document to stdout.
+//   polycut-run SCENE.json [--steps N] [--vtu DIR]
+// Static scenes are solved to convergence; dynamic scenes run N steps (default: the scene's
+// output.steps). Scripted sweeps in the scene are applied at their ticks. Bad input: a message on
+// stderr and exit status 2.
+#include "polycut/common/error.hpp"
+#include "polycut/sim/simulation.hpp"
+#include "run_report.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+namespace {
+
+int usage(const char* why)
+{
+    std::fprintf(stderr,
+        "polycut-run: %s\nusage: polycut-run SCENE.json [--steps N] [--vtu DIR]\n", why);
+    return 2;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    using namespace polycut;
+    std::string scene_path, vtu_dir;
+    long steps = -1;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--steps" && i + 1 < argc) {
+            char* end = nullptr;
+            steps = std::strtol(argv[++i], &end, 10);
+            if (!end || *end != '\0' || steps < 0)
+                return usage("--steps needs a non-negative integer");
+        } else if (a == "--vtu" && i + 1 < argc) {
+            vtu_dir = argv[++i];
+        } else if (a == "--help" || a == "-h") {
+            usage("help");
+            return 0;
+        } else if (!a.empty() && a[0] == '-') {
+            return usage(("unknown option " + a).c_str());
+        } else if (scene_path.empty()) {
+            scene_path = a;
+        } else {
+            return usage("only one scene file");
+        }
+    }
+    if (scene_path.empty())
+        return usage("no scene file given");
+
+    try {
+        scene::Scene scene = scene::load_scene(scene_path);
+        sim::Simulation sim(std::move(scene));
+        const scene::Scene& sc = sim.scene();
+        run::RunRecord rec;
+        rec.scene = sc.name;
+        rec.method = sc.method;
+        rec.before = sim.mesh_stats();
+        if (steps < 0)
+            steps = sim.is_static() ? 1 : sc.output.steps;
+        if (!vtu_dir.empty())
+            std::filesystem::create_directories(vtu_dir);
+        auto write_frame = [&](long tick) {
+            if (vtu_dir.empty())
+                return;
+            char name[64];
+            std::snprintf(name, sizeof name, "/frame_%06ld.vtu", tick);
+            sim.write_vtu(vtu_dir + name);
+        };
+        write_frame(0);
+        // Sweeps whose tick is past the last step are applied at the end.
+        std::size_t next_sweep = 0;
+        auto sweeps = sc.cutting.sweeps;
+        std::stable_sort(sweeps.begin(), sweeps.end(),
+            [](const auto& a, const auto& b) { return a.tick < b.tick; });
+        for (long s = 0; s < steps || next_sweep < sweeps.size(); ++s) {
+            while (next_sweep < sweeps.size() && (sweeps[next_sweep].tick <= sim.tick() || s >= steps)) {
+                const auto cut = sim.cut(sweeps[next_sweep].triangles);
+                rec.has_cuts = true;
+                rec.cut_triangles += long(sweeps[next_sweep].triangles.size());
+                rec.cut_ms.push_back(cut.cut_ms);
+                ++next_sweep;
+            }
+            if (s >= steps)
+                break;
+            const sim::StepReport r = sim.step();
+            rec.steps++;
+            rec.step_ms.push_back(r.step_ms);
+            rec.assembly_ms.push_back(r.assembly_ms);
+            rec.solve_ms.push_back(r.solve_ms);
+            rec.iterations.push_back(double(r.solver_iterations));
+            rec.max_residual = std::max(rec.max_residual, r.residual);
+            rec.rolled_back += r.rolled_back ? 1 : 0;
+            rec.warnings.insert(rec.warnings.end(), r.warnings.begin(), r.warnings.end());
+            if (sim.tick() % sc.output.vtu_every == 0 || s + 1 == steps)
+                write_frame(sim.tick());
+        }
+        rec.after = sim.mesh_stats();
+        if (!rec.has_cuts && !sc.cutting.sweeps.empty())
+            rec.has_cuts = true;
+        for (const auto& p : sc.probes)
+            rec.probes.emplace_back(p.name, sim.probe_displacement(p.name));
+        std::cout << run::to_json(rec).dump(2) << std::endl;
+        return 0;
+    } catch (const polycut::Error& e) {
+        std::fprintf(stderr, "polycut-run: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "polycut-run: internal error: %s\n", e.what());
+        return 3;
+    }
+}

@@ -1,0 +1,57 @@
+#include "run_report.hpp"
+
+#include <algorithm>
+
+namespace polycut::run {
+
+nlohmann::json summary_json(const Summary& s)
+{
+    return { { "count", s.count }, { "mean", s.mean }, { "median", s.median }, { "p90", s.p90 },
+        { "p99", s.p99 }, { "max", s.max } };
+}
+
+namespace {
+    nlohmann::json mesh_json(const sim::MeshStats& m)
+    {
+        return { { "nodes", m.nodes }, { "cells", m.cells },
+            { "boundary_triangles", m.boundary_triangles }, { "rest_volume", m.rest_volume },
+            { "components", m.components }, { "surface_closed", m.surface_closed } };
+    }
+} // namespace
+
+nlohmann::json to_json(const RunRecord& r)
+{
+    nlohmann::json j;
+    j["scene"] = r.scene;
+    j["method"] = r.method;
+    j["mesh"] = mesh_json(r.before);
+    j["steps"] = r.steps;
+    nlohmann::json probes = nlohmann::json::object();
+    for (const auto& [name, u] : r.probes)
+        probes[name] = { { "displacement", { u.x(), u.y(), u.z() } }, { "magnitude", u.norm() } };
+    j["probes"] = probes;
+    j["timing"] = { { "step_ms", summary_json(summarize(r.step_ms)) },
+        { "assembly_ms", summary_json(summarize(r.assembly_ms)) },
+        { "solve_ms", summary_json(summarize(r.solve_ms)) } };
+    j["solver"] = { { "iterations", summary_json(summarize(r.iterations)) },
+        { "max_residual", r.max_residual }, { "rolled_back_steps", r.rolled_back } };
+    if (r.has_cuts) {
+        const double vb = r.before.rest_volume, va = r.after.rest_volume;
+        j["cut"] = { { "triangles", r.cut_triangles },
+            { "rest_volume_before", vb }, { "rest_volume_after", va },
+            { "rest_volume_relative_change", vb > 0 ? std::abs(va - vb) / vb : 0.0 },
+            { "surface_closed", r.after.surface_closed }, { "components", r.after.components },
+            { "max_cut_ms", r.cut_ms.empty() ? 0.0 : *std::max_element(r.cut_ms.begin(), r.cut_ms.end()) },
+            { "cut_ms", summary_json(summarize(r.cut_ms)) } };
+        j["mesh_after"] = mesh_json(r.after);
+    }
+    // Distinct warnings, in order of first appearance.
+    std::vector<std::string> distinct;
+    for (const auto& w : r.warnings)
+        if (std::find(distinct.begin(), distinct.end(), w) == distinct.end())
+            distinct.push_back(w);
+    j["warnings"] = distinct;
+    return j;
+}
+
+} // namespace polycut::run

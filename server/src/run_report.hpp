@@ -1,0 +1,34 @@
+// The headless runner's JSON report (issue 2 item 6, issue 3 item 4, issue 5 item 7).
+#pragma once
+
+#include "polycut/common/stats.hpp"
+#include "polycut/sim/simulation.hpp"
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace polycut::run {
+
+/// Everything measured during a run, turned into JSON by to_json().
+struct RunRecord {
+    std::string scene;
+    std::string method;
+    sim::MeshStats before;
+    sim::MeshStats after;
+    long steps = 0;
+    std::vector<double> step_ms, assembly_ms, solve_ms;
+    std::vector<double> iterations;
+    std::vector<double> cut_ms;
+    double max_residual = 0;
+    long rolled_back = 0;
+    std::vector<std::string> warnings;
+    bool has_cuts = false;
+    long cut_triangles = 0;
+    std::vector<std::pair<std::string, Vec3>> probes;
+};
+
+nlohmann::json summary_json(const Summary& s);
+nlohmann::json to_json(const RunRecord& r);
+
+} // namespace polycut::run
