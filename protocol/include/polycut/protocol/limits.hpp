@@ -1,0 +1,42 @@
+// Wire limits (reported by `hello`) and the physical ranges every numeric param is checked
+// against. The server enforces Limits; the decoder enforces both.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace polycut::protocol {
+
+/// Protocol name and version answered by `hello` ("polycut/1").
+inline constexpr std::string_view kProtocolName = "polycut/1";
+
+/// Per-connection limits. Defaults are the server's defaults; `hello` reports the values in use.
+struct Limits {
+    /// Largest frame accepted [bytes] (the server sets ZMQ_MAXMSGSIZE to this). 16 MiB.
+    std::uint64_t max_frame_bytes = 16u << 20;
+    /// Most frames in one message, the JSON frame included (envelope frames excluded).
+    std::uint32_t max_frames_per_message = 8;
+    /// Most sweep triangles in one `cut` request.
+    std::uint32_t max_triangles_per_cut = 65536;
+    /// Most requests per second from one client before -32004 Busy [1/s].
+    double max_message_rate = 2000.0;
+    /// Largest `step.ticks`.
+    std::uint32_t max_step_ticks = 10000;
+    /// Largest tick rate accepted by `set_rate` [Hz].
+    double max_rate_hz = 1000.0;
+
+    bool operator==(const Limits&) const = default;
+};
+
+/// Range checks on physical params (anything outside is -32602 Invalid params).
+inline constexpr double kMaxCoordinate = 1.0e3; ///< |x|, |y|, |z| of any point [m]
+inline constexpr double kMaxForce = 1.0e5; ///< each component of a force [N]
+inline constexpr double kMaxRadius = 1.0e2; ///< force / grab radius [m]
+inline constexpr double kMaxDuration = 1.0e6; ///< force duration [s]
+inline constexpr double kMaxStiffness = 1.0e9; ///< grab spring stiffness [N/m]
+/// Grab spring stiffness used when `grab.stiffness` is absent [N/m].
+inline constexpr double kDefaultGrabStiffness = 200.0;
+/// Smallest triangle quality (sweep.hpp) a sweep triangle may have.
+inline constexpr double kMinTriangleQuality = 1.0e-6;
+
+} // namespace polycut::protocol

@@ -1,0 +1,112 @@
+// Typed results of every control method. Every result says at which tick the command took
+// effect: `tick` is the first tick whose surface frame reflects it (that frame lists the
+// request id in `applied`), or, for queries, the tick the answer reflects.
+#pragma once
+
+#include "polycut/protocol/limits.hpp"
+#include "polycut/protocol/methods.hpp"
+#include "polycut/protocol/stream.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace polycut::protocol {
+
+/// `hello` result.
+struct HelloResult {
+    std::string protocol = std::string(kProtocolName); ///< "polycut/1"
+    std::string server; ///< server name and version, e.g. "polycut-server 0.1.0"
+    Limits limits;
+    std::vector<std::string> capabilities; ///< method names plus features ("binary_frames")
+    std::string stream; ///< PUB endpoint to SUBscribe to, e.g. "tcp://127.0.0.1:5556"
+    std::int64_t tick = 0; ///< current tick
+    double rate_hz = 60.0; ///< current tick rate [Hz]
+    bool running = false; ///< ticking (not paused)
+    std::optional<std::string> scene; ///< loaded scene name, absent when none
+    bool operator==(const HelloResult&) const = default;
+};
+
+/// `load_scene` result.
+struct SceneResult {
+    std::int64_t tick = 0; ///< 0: a freshly loaded scene starts at tick 0
+    std::string name; ///< scene name ("inline" for an inline scene)
+    std::uint64_t topology_version = 0;
+    std::uint32_t vertex_count = 0; ///< surface vertices
+    std::uint32_t triangle_count = 0; ///< surface triangles
+    std::uint32_t cell_count = 0; ///< volume cells
+    bool operator==(const SceneResult&) const = default;
+};
+
+/// `reset`, `pause`, `resume`, `step`, `set_rate` result: the run state after the command.
+struct RunState {
+    std::int64_t tick = 0;
+    bool running = false;
+    double rate_hz = 60.0; ///< [Hz]
+    bool operator==(const RunState&) const = default;
+};
+
+/// `remove_force`, `move_grab`, `release`, `shutdown` result.
+struct Ack {
+    std::int64_t tick = 0;
+    bool operator==(const Ack&) const = default;
+};
+
+/// `apply_force`, `grab` result: the new object's id (server-assigned, in [1, 2^53)).
+struct Created {
+    std::uint64_t id = 0;
+    std::int64_t tick = 0;
+    bool operator==(const Created&) const = default;
+};
+
+/// `cut`, `end_stroke` result.
+struct CutResult {
+    std::int64_t tick = 0;
+    std::uint64_t topology_version = 0; ///< after the cut
+    std::uint32_t triangles = 0; ///< sweep triangles applied
+    bool operator==(const CutResult&) const = default;
+};
+
+/// `scalpel` result (when sent as a request rather than a notification).
+struct ScalpelResult {
+    std::int64_t tick = 0;
+    std::uint32_t triangles = 0; ///< sweep triangles this sample added to its stroke (0 or 2)
+    bool operator==(const ScalpelResult&) const = default;
+};
+
+/// `get_stats` result.
+struct Stats {
+    std::int64_t tick = 0;
+    double sim_time = 0.0; ///< [s]
+    bool running = false;
+    double rate_hz = 60.0; ///< [Hz]
+    std::uint64_t seq = 0; ///< last published stream seq
+    std::uint64_t topology_version = 0;
+    std::uint32_t vertex_count = 0;
+    std::uint32_t triangle_count = 0;
+    std::uint32_t cell_count = 0;
+    std::uint64_t ticks_over_budget = 0; ///< ticks whose work exceeded 1 / rate_hz
+    double worst_tick_ms = 0.0; ///< [ms]
+    double step_ms_p50 = 0.0; ///< median step time over the last second [ms]
+    double step_ms_p99 = 0.0; ///< [ms]
+    std::uint64_t requests = 0; ///< requests received
+    std::uint64_t errors = 0; ///< error replies (and rejected notifications)
+    std::uint32_t clients = 0; ///< distinct control peers seen in the last 10 s
+    std::uint32_t forces = 0; ///< active forces
+    std::uint32_t grabs = 0; ///< active grabs
+    bool operator==(const Stats&) const = default;
+};
+
+/// The result of any method. Which alternative a method returns: hello HelloResult; load_scene
+/// SceneResult; reset/pause/resume/step/set_rate RunState; remove_force/move_grab/release/
+/// shutdown Ack; apply_force/grab Created; cut/end_stroke CutResult; scalpel ScalpelResult;
+/// get_surface SurfaceSnapshot; get_stats Stats.
+using Result = std::variant<HelloResult, SceneResult, RunState, Ack, Created, CutResult,
+    ScalpelResult, SurfaceSnapshot, Stats>;
+
+/// The Result alternative index `method` returns (see Result).
+std::size_t result_index(Method method);
+
+} // namespace polycut::protocol

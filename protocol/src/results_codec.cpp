@@ -1,0 +1,224 @@
+// Results of every method <-> JSON. Readers of results ignore unknown members, so a server may
+// add result members within polycut/1 without breaking clients.
+#include "codec_internal.hpp"
+
+namespace polycut::protocol {
+
+std::size_t result_index(Method method)
+{
+    switch (method) {
+    case Method::Hello:
+        return 0;
+    case Method::LoadScene:
+        return 1;
+    case Method::Reset:
+    case Method::Pause:
+    case Method::Resume:
+    case Method::Step:
+    case Method::SetRate:
+        return 2;
+    case Method::RemoveForce:
+    case Method::MoveGrab:
+    case Method::Release:
+    case Method::Shutdown:
+        return 3;
+    case Method::ApplyForce:
+    case Method::Grab:
+        return 4;
+    case Method::Cut:
+    case Method::EndStroke:
+        return 5;
+    case Method::Scalpel:
+        return 6;
+    case Method::GetSurface:
+        return 7;
+    case Method::GetStats:
+        return 8;
+    }
+    return 3;
+}
+
+namespace detail {
+
+namespace {
+
+constexpr ErrorCode kCode = ErrorCode::InvalidRequest;
+constexpr std::uint64_t kU64 = std::numeric_limits<std::uint64_t>::max();
+constexpr std::uint32_t kU32 = std::numeric_limits<std::uint32_t>::max();
+constexpr std::int64_t kI64 = std::numeric_limits<std::int64_t>::max();
+
+/// Typed member readers for result objects.
+struct Members {
+    ObjectReader r;
+    std::uint64_t u64(std::string_view key) { return read_uint(r.required(key), r.at(key), 0, kU64, kCode); }
+    std::uint32_t u32(std::string_view key)
+    {
+        return static_cast<std::uint32_t>(read_uint(r.required(key), r.at(key), 0, kU32, kCode));
+    }
+    std::int64_t tick() { return read_int(r.required("tick"), r.at("tick"), 0, kI64, kCode); }
+    double number(std::string_view key) { return read_number(r.required(key), r.at(key), Range {}, kCode); }
+    bool boolean(std::string_view key) { return read_bool(r.required(key), r.at(key), kCode); }
+    std::string text(std::string_view key) { return read_string(r.required(key), r.at(key), 4096, kCode); }
+};
+
+json limits_json(const Limits& l)
+{
+    return json { { "max_frame_bytes", l.max_frame_bytes },
+        { "max_frames_per_message", l.max_frames_per_message },
+        { "max_triangles_per_cut", l.max_triangles_per_cut },
+        { "max_message_rate", l.max_message_rate }, { "max_step_ticks", l.max_step_ticks },
+        { "max_rate_hz", l.max_rate_hz } };
+}
+
+Limits read_limits(const json& value, const std::string& pointer)
+{
+    Members m { ObjectReader(value, pointer, kCode) };
+    Limits l;
+    l.max_frame_bytes = m.u64("max_frame_bytes");
+    l.max_frames_per_message = m.u32("max_frames_per_message");
+    l.max_triangles_per_cut = m.u32("max_triangles_per_cut");
+    l.max_message_rate = m.number("max_message_rate");
+    l.max_step_ticks = m.u32("max_step_ticks");
+    l.max_rate_hz = m.number("max_rate_hz");
+    return l;
+}
+
+} // namespace
+
+Result decode_result(Method method, const json& value, FrameSet& frames)
+{
+    const std::string pointer = "/result";
+    if (method == Method::GetSurface) {
+        SurfaceFrame snapshot = read_surface(value, pointer, frames, kCode);
+        if (!snapshot.header.has_topology) {
+            fail(kCode, pointer + "/has_topology", "a snapshot always carries its topology");
+        }
+        return snapshot;
+    }
+    Members m { ObjectReader(value, pointer, kCode) };
+    switch (result_index(method)) {
+    case 0: {
+        HelloResult h;
+        h.protocol = m.text("protocol");
+        h.server = m.text("server");
+        h.limits = read_limits(m.r.required("limits"), m.r.at("limits"));
+        const json& caps = m.r.required("capabilities");
+        if (!caps.is_array()) {
+            fail(kCode, m.r.at("capabilities"), "must be an array of strings");
+        }
+        for (std::size_t i = 0; i < caps.size(); ++i) {
+            h.capabilities.push_back(
+                read_string(caps[i], pointer_append(m.r.at("capabilities"), i), 256, kCode));
+        }
+        h.stream = m.text("stream");
+        h.tick = m.tick();
+        h.rate_hz = m.number("rate_hz");
+        h.running = m.boolean("running");
+        if (const json* scene = m.r.optional("scene"); scene != nullptr && !scene->is_null()) {
+            h.scene = read_string(*scene, m.r.at("scene"), 4096, kCode);
+        }
+        return h;
+    }
+    case 1:
+        return SceneResult { m.tick(), m.text("name"), m.u64("topology_version"),
+            m.u32("vertex_count"), m.u32("triangle_count"), m.u32("cell_count") };
+    case 2:
+        return RunState { m.tick(), m.boolean("running"), m.number("rate_hz") };
+    case 3:
+        return Ack { m.tick() };
+    case 4: {
+        Created c;
+        c.id = read_uint(m.r.required("id"), m.r.at("id"), 1, kMaxSafeInteger, kCode);
+        c.tick = m.tick();
+        return c;
+    }
+    case 5:
+        return CutResult { m.tick(), m.u64("topology_version"), m.u32("triangles") };
+    case 6:
+        return ScalpelResult { m.tick(), m.u32("triangles") };
+    default: {
+        Stats s;
+        s.tick = m.tick();
+        s.sim_time = m.number("sim_time");
+        s.running = m.boolean("running");
+        s.rate_hz = m.number("rate_hz");
+        s.seq = m.u64("seq");
+        s.topology_version = m.u64("topology_version");
+        s.vertex_count = m.u32("vertex_count");
+        s.triangle_count = m.u32("triangle_count");
+        s.cell_count = m.u32("cell_count");
+        s.ticks_over_budget = m.u64("ticks_over_budget");
+        s.worst_tick_ms = m.number("worst_tick_ms");
+        s.step_ms_p50 = m.number("step_ms_p50");
+        s.step_ms_p99 = m.number("step_ms_p99");
+        s.requests = m.u64("requests");
+        s.errors = m.u64("errors");
+        s.clients = m.u32("clients");
+        s.forces = m.u32("forces");
+        s.grabs = m.u32("grabs");
+        return s;
+    }
+    }
+}
+
+json encode_result_json(const Result& result, Message& frames)
+{
+    json out = json::object();
+    std::visit(
+        [&](const auto& r) {
+            using T = std::decay_t<decltype(r)>;
+            if constexpr (std::is_same_v<T, HelloResult>) {
+                out["protocol"] = r.protocol;
+                out["server"] = r.server;
+                out["limits"] = limits_json(r.limits);
+                out["capabilities"] = r.capabilities;
+                out["stream"] = r.stream;
+                out["tick"] = r.tick;
+                out["rate_hz"] = r.rate_hz;
+                out["running"] = r.running;
+                if (r.scene) {
+                    out["scene"] = *r.scene;
+                }
+            } else if constexpr (std::is_same_v<T, SceneResult>) {
+                out = json { { "tick", r.tick }, { "name", r.name },
+                    { "topology_version", r.topology_version },
+                    { "vertex_count", r.vertex_count }, { "triangle_count", r.triangle_count },
+                    { "cell_count", r.cell_count } };
+            } else if constexpr (std::is_same_v<T, RunState>) {
+                out = json { { "tick", r.tick }, { "running", r.running },
+                    { "rate_hz", r.rate_hz } };
+            } else if constexpr (std::is_same_v<T, Ack>) {
+                out["tick"] = r.tick;
+            } else if constexpr (std::is_same_v<T, Created>) {
+                out = json { { "id", r.id }, { "tick", r.tick } };
+            } else if constexpr (std::is_same_v<T, CutResult>) {
+                out = json { { "tick", r.tick }, { "topology_version", r.topology_version },
+                    { "triangles", r.triangles } };
+            } else if constexpr (std::is_same_v<T, ScalpelResult>) {
+                out = json { { "tick", r.tick }, { "triangles", r.triangles } };
+            } else if constexpr (std::is_same_v<T, SurfaceSnapshot>) {
+                SurfaceHeader h = r.header;
+                h.has_topology = true;
+                h.vertex_count = static_cast<std::uint32_t>(r.positions.size() / 3);
+                h.triangle_count = static_cast<std::uint32_t>(r.triangles.size() / 3);
+                write_surface_header(h, out);
+                write_surface_arrays(h, r.positions, r.triangles, r.tags, out, frames);
+            } else if constexpr (std::is_same_v<T, Stats>) {
+                out = json { { "tick", r.tick }, { "sim_time", r.sim_time },
+                    { "running", r.running }, { "rate_hz", r.rate_hz }, { "seq", r.seq },
+                    { "topology_version", r.topology_version },
+                    { "vertex_count", r.vertex_count }, { "triangle_count", r.triangle_count },
+                    { "cell_count", r.cell_count }, { "ticks_over_budget", r.ticks_over_budget },
+                    { "worst_tick_ms", r.worst_tick_ms }, { "step_ms_p50", r.step_ms_p50 },
+                    { "step_ms_p99", r.step_ms_p99 }, { "requests", r.requests },
+                    { "errors", r.errors }, { "clients", r.clients }, { "forces", r.forces },
+                    { "grabs", r.grabs } };
+            }
+        },
+        result);
+    return out;
+}
+
+} // namespace detail
+
+} // namespace polycut::protocol
