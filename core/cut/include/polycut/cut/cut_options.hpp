@@ -1,0 +1,38 @@
+// Options of the cell-splitting cutter (seed 000 sec. 4-5). All tolerances are relative
+// (dimensionless) unless a unit is given.
+#pragma once
+
+#include "polycut/common/types.hpp"
+
+#include <array>
+
+namespace polycut::cut {
+
+/// A sweep triangle: three corner positions [m] (rest or world space, as the call says).
+using Triangle = std::array<Vec3, 3>;
+
+/// Tolerances of the cutter.
+struct CutOptions {
+    /// Snapping distance, relative to the local cell thickness h = 6 V / A of the thinnest cell
+    /// around a node: a node closer than snap * h to a cutting plane counts as lying on it, so no
+    /// edge node is created next to it (no needles, 000 sec. 4 and 5.1).
+    double snap = 1e-2;
+    /// A sweep triangle whose area is below min_area * L^2 (L: rest bounding-box diagonal of the
+    /// mesh) or whose shortest altitude is below min_area * L is rejected as degenerate.
+    double min_area = 1e-10;
+    /// Triangle corners farther than max_extent * L from the mesh's bounding-box centre are
+    /// rejected ("huge coordinates").
+    double max_extent = 1e3;
+    /// Insert a pocket node when a cut polygon covers no node that could separate (000 sec. 5.2).
+    bool pockets = true;
+    /// Cells whose rest volume after a split is below sliver_volume * (volume of the parent
+    /// cell) are merged with a face neighbour when the union stays convex (000 sec. 4).
+    double sliver_volume = 1e-3;
+    /// Merge slivers (see sliver_volume).
+    bool merge_slivers = true;
+    /// Convexity tolerance used when checking a merged cell, relative to its bounding-box
+    /// diagonal.
+    double convex_tol = 2e-2;
+};
+
+} // namespace polycut::cut

@@ -1,0 +1,90 @@
+#include "polycut/cut/invariants.hpp"
+
+#include "polycut/geometry/polygon.hpp"
+#include "polycut/geometry/polyhedron.hpp"
+#include "polycut/mesh/validate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace polycut::cut {
+
+CutInvariants check_cut_invariants(const mesh::Mesh& m, double volume_before,
+    const InvariantOptions& opt)
+{
+    CutInvariants r;
+    std::ostringstream problem;
+    auto fail = [&](const std::string& what) {
+        if (problem.tellp() == 0)
+            problem << what;
+    };
+    r.volume_before = volume_before;
+    r.cells = m.num_cells();
+    r.nodes = m.num_nodes();
+    for (const Vec3& x : m.rest)
+        r.finite = r.finite && x.allFinite();
+    if (!r.finite)
+        fail("non-finite rest position");
+
+    double vmin = std::numeric_limits<double>::infinity(), vmax = 0;
+    for (Index c = 0; c < m.num_cells(); ++c) {
+        const auto loops = m.cell_face_loops(c);
+        const double v = geometry::polyhedron_volume(m.rest, loops);
+        r.volume += v;
+        vmin = std::min(vmin, v);
+        vmax = std::max(vmax, v);
+        if (!(v > 0)) {
+            ++r.nonpositive_cells;
+            fail("cell " + std::to_string(c) + " has volume " + std::to_string(v));
+        }
+        geometry::Aabb box;
+        for (Index n : m.cells[std::size_t(c)].nodes)
+            box.extend(m.rest[std::size_t(n)]);
+        const double diag = box.diagonal();
+        double worst = 0;
+        for (const auto& loop : loops) {
+            const auto pts = geometry::gather(m.rest, loop);
+            const Vec3 nrm = geometry::polygon_normal(pts);
+            const Vec3 ctr = geometry::polygon_centroid(pts);
+            for (Index n : m.cells[std::size_t(c)].nodes)
+                worst = std::max(worst, (m.rest[std::size_t(n)] - ctr).dot(nrm));
+        }
+        worst = diag > 0 ? worst / diag : 0;
+        r.max_convexity_violation = std::max(r.max_convexity_violation, worst);
+        if (worst > opt.convex_tol) {
+            ++r.nonconvex_cells;
+            if (opt.require_convex)
+                fail("cell " + std::to_string(c) + " is not convex (violation "
+                    + std::to_string(worst) + " of its diagonal)");
+        }
+    }
+    r.min_volume_ratio = vmax > 0 ? vmin / vmax : 0;
+    r.volume_error = volume_before != 0 ? std::abs(r.volume - volume_before) / volume_before : 0;
+    if (!(r.volume_error <= opt.volume_tol))
+        fail("rest volume changed by " + std::to_string(r.volume_error) + " (relative)");
+
+    mesh::ValidationOptions vo;
+    vo.planarity_tol = opt.planarity_tol;
+    vo.require_convex = false;
+    vo.check_boundary = false;
+    const auto issues = mesh::check_mesh(m, vo);
+    r.mesh_issues = Index(issues.size());
+    if (!issues.empty())
+        fail(std::string("mesh: ") + mesh::kind_name(issues.front().kind) + ": "
+            + issues.front().message);
+
+    const auto surface = mesh::check_boundary_surface(m);
+    r.surface_closed = surface.ok();
+    r.surface_components = surface.components;
+    if (!surface.ok())
+        fail("boundary surface not closed/oriented: " + std::to_string(surface.boundary_edges)
+            + " open, " + std::to_string(surface.nonmanifold_edges) + " non-manifold, "
+            + std::to_string(surface.misoriented_edges) + " misoriented edges (face "
+            + std::to_string(surface.first_bad_face) + ")");
+    r.components = m.count_components();
+    r.first_problem = problem.str();
+    return r;
+}
+
+} // namespace polycut::cut

@@ -1,0 +1,161 @@
+#include "plane_split.hpp"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+namespace polycut::cut::detail {
+
+int PlaneClassifier::sign(Index n)
+{
+    auto it = m_sign.find(n);
+    if (it != m_sign.end())
+        return it->second;
+    const double d = distance(n);
+    const double eps = m_ed.snap_eps(n);
+    const int s = d > eps ? 1 : (d < -eps ? -1 : 0);
+    m_sign.emplace(n, s);
+    return s;
+}
+
+std::vector<int> PlaneClassifier::signs(const std::vector<Index>& loop)
+{
+    std::vector<int> s;
+    s.reserve(loop.size());
+    for (Index n : loop)
+        s.push_back(sign(n));
+    return s;
+}
+
+void PlaneClassifier::split_crossing_edges(Index face, Index parent_cell)
+{
+    // Re-read the loop after each insertion: insertions shift positions.
+    for (std::size_t i = 0; i < at(m_ed.m.faces, face).nodes.size(); ++i) {
+        const auto& loop = at(m_ed.m.faces, face).nodes;
+        const Index a = loop[i], b = loop[(i + 1) % loop.size()];
+        const int sa = sign(a), sb = sign(b);
+        if (sa * sb >= 0)
+            continue;
+        const double da = distance(a), db = distance(b);
+        // 000 sec. 5.1: the new node is where the plane crosses the edge; linear along edges.
+        const double t = da / (da - db);
+        const Index mid = m_ed.split_edge(a, b, t, parent_cell);
+        set_zero(mid);
+    }
+}
+
+bool can_split_cell(Editor& ed, PlaneClassifier& cls, Index c)
+{
+    bool plus = false, minus = false;
+    for (Index n : at(ed.m.cells, c).nodes) {
+        const int s = cls.sign(n);
+        plus = plus || s > 0;
+        minus = minus || s < 0;
+    }
+    if (!plus || !minus)
+        return false;
+    for (Index f : at(ed.m.cells, c).faces) {
+        const auto s = cls.signs(at(ed.m.faces, f).nodes);
+        if (std::all_of(s.begin(), s.end(), [](int v) { return v == 0; }))
+            return false;
+        if (!clean_pattern(s))
+            return false;
+    }
+    return true;
+}
+
+namespace {
+    // The loop closing the open surface made by `loops` (outward for the cell), oriented
+    // outward for the same cell: each boundary edge (u, v) appears reversed.
+    std::vector<Index> closing_loop(const std::vector<std::vector<Index>>& loops)
+    {
+        std::map<std::pair<Index, Index>, int> directed;
+        for (const auto& l : loops)
+            for (std::size_t i = 0; i < l.size(); ++i)
+                ++directed[{ l[i], l[(i + 1) % l.size()] }];
+        std::map<Index, Index> next;
+        for (const auto& [e, count] : directed) {
+            if (directed.count({ e.second, e.first }))
+                continue;
+            // Hole edge (u, v): the closing face walks v -> u.
+            if (count != 1 || next.count(e.second))
+                throw std::logic_error("cut: hole of a split cell is not a simple loop");
+            next[e.second] = e.first;
+        }
+        if (next.size() < 3)
+            throw std::logic_error("cut: hole of a split cell has fewer than 3 nodes");
+        std::vector<Index> loop;
+        Index v = next.begin()->first;
+        do {
+            loop.push_back(v);
+            auto it = next.find(v);
+            if (it == next.end() || loop.size() > next.size())
+                throw std::logic_error("cut: hole of a split cell is not closed");
+            v = it->second;
+        } while (v != loop.front());
+        if (loop.size() != next.size())
+            throw std::logic_error("cut: hole of a split cell has several loops");
+        return loop;
+    }
+} // namespace
+
+Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, Index& interface)
+{
+    mesh::Mesh& m = ed.m;
+    const std::vector<Index> faces = at(m.cells, c).faces;
+    for (Index f : faces)
+        cls.split_crossing_edges(f, c);
+
+    std::vector<Index> plus_faces, minus_faces;
+    for (Index f : faces) {
+        const auto loop = at(m.faces, f).nodes;
+        const auto s = cls.signs(loop);
+        const bool hp = std::find(s.begin(), s.end(), 1) != s.end();
+        const bool hm = std::find(s.begin(), s.end(), -1) != s.end();
+        if (hp && hm) {
+            std::vector<Index> p, q;
+            split_loop(loop, s, p, q);
+            if (p.size() < 3 || q.size() < 3)
+                throw std::logic_error("cut: face split produced a degenerate loop");
+            const Index g = ed.split_face(f, std::move(p), std::move(q));
+            plus_faces.push_back(f);
+            minus_faces.push_back(g);
+        } else if (hm) {
+            minus_faces.push_back(f);
+        } else {
+            plus_faces.push_back(f);
+        }
+    }
+
+    const Index c2 = m.num_cells();
+    mesh::Cell child;
+    child.parent = c;
+    child.shape = mesh::CellShape::Polyhedron;
+    m.cells.push_back(std::move(child));
+    ed.touch(c2);
+    at(m.cells, c).faces = plus_faces;
+    at(m.cells, c2).faces = minus_faces;
+    for (Index f : minus_faces) {
+        mesh::Face& face = at(m.faces, f);
+        if (face.owner == c)
+            face.owner = c2;
+        else if (face.neighbour == c)
+            face.neighbour = c2;
+    }
+
+    std::vector<std::vector<Index>> loops;
+    for (Index f : plus_faces)
+        loops.push_back(m.face_loop(f, c));
+    mesh::Face iface;
+    iface.nodes = closing_loop(loops);
+    iface.owner = c;
+    iface.neighbour = c2;
+    iface.tag = mesh::FaceTag::Interior;
+    interface = ed.add_face(std::move(iface));
+    ed.refresh_cell_nodes(c);
+    ed.refresh_cell_nodes(c2);
+    ed.report->new_cells.push_back({ c2, c });
+    return c2;
+}
+
+} // namespace polycut::cut::detail

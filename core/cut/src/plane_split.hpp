@@ -1,0 +1,48 @@
+// Private: splitting convex cells and their faces along a plane (000 sec. 5.1), with nodes
+// snapped onto the plane within their snapping distance, edge nodes shared by all cells around
+// an edge, and the interface face between the two halves.
+#pragma once
+
+#include "editor.hpp"
+
+#include <unordered_map>
+
+namespace polycut::cut::detail {
+
+/// Classification of nodes against one plane during one operation.
+class PlaneClassifier {
+public:
+    PlaneClassifier(Editor& editor, const Plane& plane)
+        : m_ed(editor)
+        , m_plane(plane)
+    {
+    }
+    const Plane& plane() const { return m_plane; }
+    /// Signed distance of node n [m].
+    double distance(Index n) const { return m_plane.distance(at(m_ed.m.rest, n)); }
+    /// -1, 0 (within the node's snapping distance), +1. Cached.
+    int sign(Index n);
+    /// Forces node n onto the plane (used for nodes created on it).
+    void set_zero(Index n) { m_sign[n] = 0; }
+    /// Signs of a loop.
+    std::vector<int> signs(const std::vector<Index>& loop);
+    /// Inserts edge nodes where a loop goes from + to - directly (every face around the edge
+    /// gets them). `parent_cell` is recorded as the origin.
+    void split_crossing_edges(Index face, Index parent_cell);
+
+private:
+    Editor& m_ed;
+    Plane m_plane;
+    std::unordered_map<Index, int> m_sign;
+};
+
+/// Whether cell c can be split cleanly by the plane: nodes on both sides, every face's sign
+/// pattern clean, no face lying in the plane.
+bool can_split_cell(Editor& ed, PlaneClassifier& cls, Index c);
+
+/// Splits cell c (which can_split_cell accepted): inserts edge nodes, splits crossed faces for
+/// both of their cells, keeps the + half as c and appends the - half. Returns the new cell;
+/// `interface` receives the face between the halves (owner c).
+Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, Index& interface);
+
+} // namespace polycut::cut::detail

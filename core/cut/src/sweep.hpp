@@ -1,0 +1,17 @@
+// Private: one sweep polygon's cut (000 sec. 5.2) in rest space, and the separation of the
+// material along the faces it covers.
+#pragma once
+
+#include "editor.hpp"
+
+namespace polycut::cut::detail {
+
+/// Splits every cell the triangle covers along its plane and splits the faces lying in the plane
+/// along the triangle's edges. Returns the interior faces inside the triangle (still Interior).
+std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri);
+
+/// Turns the given interior faces into pairs of Cut boundary faces, duplicates the nodes whose
+/// cells are no longer connected around them, and inserts a pocket node when nothing opened.
+void separate(Editor& ed, const std::vector<Index>& crack);
+
+} // namespace polycut::cut::detail

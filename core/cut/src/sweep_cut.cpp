@@ -1,0 +1,179 @@
+#include "sweep.hpp"
+
+#include "plane_split.hpp"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+namespace polycut::cut::detail {
+namespace {
+    using Vec2 = Eigen::Vector2d;
+
+    double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+    // Convex hull, counter-clockwise (Andrew's monotone chain).
+    std::vector<Vec2> convex_hull(std::vector<Vec2> p)
+    {
+        std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+            return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+        });
+        if (p.size() < 3)
+            return p;
+        std::vector<Vec2> h(2 * p.size());
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            while (k >= 2 && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0)
+                --k;
+            h[k++] = p[i];
+        }
+        for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+            while (k >= t && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0)
+                --k;
+            h[k++] = p[i];
+        }
+        h.resize(k - 1);
+        return h;
+    }
+
+    // Area of the intersection of two counter-clockwise convex polygons (Sutherland-Hodgman).
+    double overlap_area(std::vector<Vec2> subject, const std::vector<Vec2>& clip)
+    {
+        for (std::size_t i = 0; i < clip.size() && !subject.empty(); ++i) {
+            const Vec2 a = clip[i], b = clip[(i + 1) % clip.size()];
+            std::vector<Vec2> out;
+            for (std::size_t j = 0; j < subject.size(); ++j) {
+                const Vec2 p = subject[j], q = subject[(j + 1) % subject.size()];
+                const double sp = cross2(b - a, p - a), sq = cross2(b - a, q - a);
+                if (sp >= 0)
+                    out.push_back(p);
+                if ((sp >= 0) != (sq >= 0))
+                    out.push_back(p + (q - p) * (sp / (sp - sq)));
+            }
+            subject = std::move(out);
+        }
+        double area = 0;
+        for (std::size_t j = 0; j < subject.size(); ++j)
+            area += cross2(subject[j], subject[(j + 1) % subject.size()]);
+        return 0.5 * area;
+    }
+} // namespace
+
+std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri)
+{
+    mesh::Mesh& m = ed.m;
+    const Vec3 n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
+    PlaneClassifier cls(ed, Plane { n, n.dot(tri[0]) });
+    const Vec3 eu = (tri[1] - tri[0]).normalized();
+    const Vec3 ev = n.cross(eu);
+    auto to2 = [&](const Vec3& x) { return Vec2((x - tri[0]).dot(eu), (x - tri[0]).dot(ev)); };
+    const std::vector<Vec2> tri2 { to2(tri[0]), to2(tri[1]), to2(tri[2]) }; // counter-clockwise
+
+    geometry::Aabb tbox;
+    for (const Vec3& p : tri)
+        tbox.extend(p);
+
+    // Cells the triangle covers with positive area: split them. Faces already in the plane:
+    // candidates for the crack as they are.
+    std::vector<Index> to_split, plane_faces;
+    const Index ncells = m.num_cells();
+    for (Index c = 0; c < ncells; ++c) {
+        geometry::Aabb box = ed.bounds(c);
+        const double margin = ed.opt.snap * ed.thickness(c);
+        box.lo.array() -= margin;
+        box.hi.array() += margin;
+        if (!box.overlaps(tbox))
+            continue;
+        bool plus = false, minus = false;
+        for (Index v : at(m.cells, c).nodes) {
+            const int s = cls.sign(v);
+            plus = plus || s > 0;
+            minus = minus || s < 0;
+        }
+        if (plus && minus) {
+            // Cross-section of the cell with the plane, in the plane's 2D frame.
+            std::vector<Vec2> section;
+            for (Index f : at(m.cells, c).faces) {
+                const auto& loop = at(m.faces, f).nodes;
+                for (std::size_t i = 0; i < loop.size(); ++i) {
+                    const Index a = loop[i], b = loop[(i + 1) % loop.size()];
+                    const int sa = cls.sign(a), sb = cls.sign(b);
+                    if (sa == 0)
+                        section.push_back(to2(at(m.rest, a)));
+                    else if (sa * sb < 0) {
+                        const double da = cls.distance(a), db = cls.distance(b);
+                        const double t = da / (da - db);
+                        section.push_back(to2((1 - t) * at(m.rest, a) + t * at(m.rest, b)));
+                    }
+                }
+            }
+            const auto hull = convex_hull(section);
+            const double h = ed.opt.snap * ed.thickness(c);
+            if (hull.size() < 3 || overlap_area(tri2, hull) <= h * h)
+                continue;
+            if (can_split_cell(ed, cls, c))
+                to_split.push_back(c);
+            else
+                ++ed.report->cells_skipped;
+        } else {
+            for (Index f : at(m.cells, c).faces) {
+                const mesh::Face& face = at(m.faces, f);
+                if (face.boundary() || face.owner != c)
+                    continue; // each interior face once, from its owner
+                bool flat = true;
+                for (Index v : face.nodes)
+                    flat = flat && cls.sign(v) == 0;
+                if (flat)
+                    plane_faces.push_back(f);
+            }
+        }
+    }
+
+    for (Index c : to_split) {
+        Index iface = kNone;
+        split_cell(ed, cls, c, iface);
+        plane_faces.push_back(iface);
+    }
+
+    // Clip each face in the plane by the triangle's edges (000 sec. 5.2: "the polygon edges are
+    // intersected with edges in the simulation mesh ... faces in the cut plane are split"). Each
+    // edge's side plane is perpendicular to the cut plane, + outside; the pieces outside stay
+    // interior faces, all convex.
+    std::vector<PlaneClassifier> sides;
+    for (int i = 0; i < 3; ++i) {
+        const Vec3 s = (tri[std::size_t((i + 1) % 3)] - tri[std::size_t(i)]).cross(n).normalized();
+        sides.emplace_back(ed, Plane { s, s.dot(tri[std::size_t(i)]) });
+    }
+    std::vector<Index> crack;
+    for (Index f : plane_faces) {
+        if (at(m.faces, f).boundary())
+            continue;
+        bool inside = true;
+        for (auto& side : sides) {
+            auto s = side.signs(at(m.faces, f).nodes);
+            const bool out = std::find(s.begin(), s.end(), 1) != s.end();
+            const bool in = std::find(s.begin(), s.end(), -1) != s.end();
+            if (!out)
+                continue;
+            if (!in || !clean_pattern(s)) {
+                inside = false;
+                break;
+            }
+            side.split_crossing_edges(f, at(m.faces, f).owner);
+            const auto loop = at(m.faces, f).nodes;
+            s = side.signs(loop);
+            std::vector<Index> outer, inner;
+            split_loop(loop, s, outer, inner);
+            if (outer.size() < 3 || inner.size() < 3) {
+                inside = false;
+                break;
+            }
+            ed.split_face(f, std::move(inner), std::move(outer));
+        }
+        if (inside)
+            crack.push_back(f);
+    }
+    return crack;
+}
+
+} // namespace polycut::cut::detail
