@@ -11,6 +11,9 @@ namespace polycut::solve {
 
 enum class Preconditioner { None, Jacobi, BlockJacobi3, LaggedCholesky };
 
+/// Name of a preconditioner ("none", "jacobi", "block_jacobi3", "lagged_cholesky").
+const char* to_string(Preconditioner p);
+
 struct PcgOptions {
     double relative_tolerance = 1e-6; ///< stop at ||r|| <= tol ||b|| (dimensionless)
     int max_iterations = 1000;
@@ -19,16 +22,24 @@ struct PcgOptions {
     int refactor_every = 0;
     /// ...or when a solve needed more iterations than this.
     int refactor_iterations = 50;
+    /// LaggedCholesky: refactor on a worker thread (BackgroundCholesky) instead of inside
+    /// solve(). Until the new factor is ready, solve() keeps using the old one, or
+    /// BlockJacobi3 if the old one has the wrong size (after a cut).
+    bool background_refactor = false;
 };
 
 struct PcgResult {
     SolveStatus status = SolveStatus::Ok;
     int iterations = 0;
     double relative_residual = 0; ///< ||b - A x|| / ||b||
-    bool refactored = false;      ///< the lagged factor was recomputed before this solve
+    bool refactored = false; ///< the lagged factor was recomputed before this solve
+    /// Preconditioner actually applied (BlockJacobi3 while a background factor is pending).
+    Preconditioner used = Preconditioner::None;
 };
 
 /// PCG with a persistent preconditioner. x is used as the initial guess (warm start).
+/// Work vectors live in the solver and are reused while the size stays the same, so a solve
+/// allocates nothing after the first one (except when refactoring the lagged factor).
 class PcgSolver {
 public:
     explicit PcgSolver(PcgOptions options = {});
@@ -40,7 +51,22 @@ public:
     /// Forget the preconditioner (call after a sparsity pattern change).
     void reset();
     /// Solves A x = b from the initial guess x. A: symmetric positive definite, full storage.
+    /// x: initial guess, replaced by zero if its size differs from A's or it is not finite;
+    /// b = 0 gives x = 0 in 0 iterations. Status NotConverged at max_iterations (x is the last
+    /// iterate; with a foreground lagged factor that was not fresh, it is refactored once and
+    /// PCG goes on with a new budget), NotPositiveDefinite if a search direction has
+    /// p^T A p <= 0 or a preconditioner setup meets a non-positive pivot, NonFinite on NaN/Inf
+    /// in b or along the iteration. Throws InputError on mismatched sizes.
     PcgResult solve(const SparseMatrix& A, const Vector& b, Vector& x);
+
+    /// Installs a factor (e.g. from BackgroundCholesky::take()) as the lagged preconditioner and
+    /// restarts the refactor schedule. Used by LaggedCholesky only.
+    void set_preconditioner_factor(CholmodSolver&& factor);
+    /// Background mode: blocks until a pending background factorization has finished, then
+    /// installs it (the next solve reports refactored). No-op otherwise.
+    void finish_background_refactor();
+    /// Number of lagged factorizations done so far (foreground and background).
+    int refactorizations() const;
 
 private:
     struct Impl;

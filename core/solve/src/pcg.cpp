@@ -1,0 +1,342 @@
+// Preconditioned conjugate gradients (Hestenes-Stiefel with a symmetric preconditioner M):
+//   r = b - A x, z = M^-1 r, p = z; repeat: alpha = r.z / p.Ap, x += alpha p, r -= alpha Ap,
+//   z = M^-1 r, beta = r.z_new / r.z_old, p = z + beta p; stop at ||r|| <= tol ||b||.
+// Work vectors live in Impl and keep their size between solves: no allocation per iteration
+// and none per solve once the size is stable (DESIGN.md sec. 4, STYLE.md "hot loop").
+#include "polycut/solve/pcg.hpp"
+
+#include "polycut/common/error.hpp"
+#include "polycut/solve/background_cholesky.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace polycut::solve {
+
+const char* to_string(Preconditioner p) {
+    switch (p) {
+    case Preconditioner::None:
+        return "none";
+    case Preconditioner::Jacobi:
+        return "jacobi";
+    case Preconditioner::BlockJacobi3:
+        return "block_jacobi3";
+    case Preconditioner::LaggedCholesky:
+        return "lagged_cholesky";
+    }
+    return "unknown";
+}
+
+namespace {
+
+/// Position of entry (row, col) in compressed column storage, or -1.
+long find_entry(const SparseMatrix& A, int row, int col) {
+    const int* inner = A.innerIndexPtr();
+    const int begin = A.outerIndexPtr()[col];
+    const int end
+        = A.isCompressed() ? A.outerIndexPtr()[col + 1] : begin + A.innerNonZeroPtr()[col];
+    const int* it = std::lower_bound(inner + begin, inner + end, row);
+    return (it != inner + end && *it == row) ? it - inner : -1;
+}
+
+} // namespace
+
+struct PcgSolver::Impl {
+    PcgOptions options;
+    // work vectors, sized n
+    Vector r, z, p, q;
+    // Jacobi: inverse diagonal (n); BlockJacobi3: inverse 3x3 diagonal blocks (n / 3) plus
+    // inverse diagonal for the trailing n % 3 rows
+    Vector inv_diag;
+    std::vector<Eigen::Matrix3d> inv_blocks;
+    // LaggedCholesky
+    CholmodSolver factor;
+    int solves_since_refactor = 0;
+    bool refactor_requested = false;
+    bool installed = false; ///< a factor was installed since the last solve
+    int refactorizations = 0;
+    std::unique_ptr<BackgroundCholesky> background;
+
+    explicit Impl(PcgOptions o)
+        : options(o) {
+        if (options.background_refactor)
+            background = std::make_unique<BackgroundCholesky>();
+    }
+
+    void resize(long n) {
+        if (r.size() == n)
+            return;
+        r.resize(n);
+        z.resize(n);
+        p.resize(n);
+        q.resize(n);
+    }
+
+    SolveStatus setup_jacobi(const SparseMatrix& A) {
+        const long n = A.rows();
+        inv_diag.resize(n);
+        for (long j = 0; j < n; ++j) {
+            const long k = find_entry(A, static_cast<int>(j), static_cast<int>(j));
+            const double d = k < 0 ? 0.0 : A.valuePtr()[k];
+            if (!std::isfinite(d))
+                return SolveStatus::NonFinite;
+            if (!(d > 0))
+                return SolveStatus::NotPositiveDefinite;
+            inv_diag[j] = 1.0 / d;
+        }
+        return SolveStatus::Ok;
+    }
+
+    SolveStatus setup_block_jacobi(const SparseMatrix& A) {
+        const long n = A.rows();
+        const long blocks = n / 3;
+        inv_blocks.resize(static_cast<size_t>(blocks));
+        const int* inner = A.innerIndexPtr();
+        const double* values = A.valuePtr();
+        for (long b = 0; b < blocks; ++b) {
+            Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+            for (int c = 0; c < 3; ++c) {
+                const int col = static_cast<int>(3 * b + c);
+                const int begin = A.outerIndexPtr()[col];
+                const int end = A.isCompressed() ? A.outerIndexPtr()[col + 1]
+                                                 : begin + A.innerNonZeroPtr()[col];
+                const int* it = std::lower_bound(inner + begin, inner + end, 3 * b);
+                for (; it != inner + end && *it < 3 * b + 3; ++it)
+                    block(*it - 3 * b, c) = values[it - inner];
+            }
+            if (!block.allFinite())
+                return SolveStatus::NonFinite;
+            // a diagonal block of an SPD matrix is SPD
+            const Eigen::LLT<Eigen::Matrix3d> llt(block);
+            if (llt.info() != Eigen::Success)
+                return SolveStatus::NotPositiveDefinite;
+            inv_blocks[static_cast<size_t>(b)] = llt.solve(Eigen::Matrix3d::Identity());
+        }
+        // trailing rows that do not fill a node block: scalar Jacobi
+        inv_diag.resize(n);
+        for (long j = 3 * blocks; j < n; ++j) {
+            const long k = find_entry(A, static_cast<int>(j), static_cast<int>(j));
+            const double d = k < 0 ? 0.0 : values[k];
+            if (!(d > 0))
+                return std::isfinite(d) ? SolveStatus::NotPositiveDefinite : SolveStatus::NonFinite;
+            inv_diag[j] = 1.0 / d;
+        }
+        return SolveStatus::Ok;
+    }
+
+    /// z = M^-1 r.
+    SolveStatus apply(Preconditioner use) {
+        switch (use) {
+        case Preconditioner::None:
+            z = r;
+            return SolveStatus::Ok;
+        case Preconditioner::Jacobi:
+            z = inv_diag.cwiseProduct(r);
+            return SolveStatus::Ok;
+        case Preconditioner::BlockJacobi3: {
+            const long blocks = static_cast<long>(inv_blocks.size());
+            for (long b = 0; b < blocks; ++b)
+                z.segment<3>(3 * b).noalias()
+                    = inv_blocks[static_cast<size_t>(b)] * r.segment<3>(3 * b);
+            for (long j = 3 * blocks; j < r.size(); ++j)
+                z[j] = inv_diag[j] * r[j];
+            return SolveStatus::Ok;
+        }
+        case Preconditioner::LaggedCholesky:
+            return factor.solve(r, z);
+        }
+        return SolveStatus::NotReady;
+    }
+
+    /// PCG iterations from x; adds to `iterations`.
+    SolveStatus iterate(const SparseMatrix& A, const Vector& b, Vector& x, double target,
+        Preconditioner use, int& iterations) {
+        multiply_symmetric(A, x, q);
+        r = b - q;
+        double r_norm = r.norm();
+        if (!std::isfinite(r_norm))
+            return SolveStatus::NonFinite;
+        if (r_norm <= target)
+            return SolveStatus::Ok;
+        if (const SolveStatus s = apply(use); s != SolveStatus::Ok)
+            return s;
+        p = z;
+        double rz = r.dot(z);
+        for (;;) {
+            if (iterations >= options.max_iterations)
+                return SolveStatus::NotConverged;
+            multiply_symmetric(A, p, q);
+            const double pq = p.dot(q);
+            if (!std::isfinite(pq))
+                return SolveStatus::NonFinite;
+            if (!(pq > 0))
+                return SolveStatus::NotPositiveDefinite;
+            const double alpha = rz / pq;
+            x += alpha * p;
+            r -= alpha * q;
+            ++iterations;
+            r_norm = r.norm();
+            if (!std::isfinite(r_norm))
+                return SolveStatus::NonFinite;
+            if (r_norm <= target)
+                return SolveStatus::Ok;
+            if (const SolveStatus s = apply(use); s != SolveStatus::Ok)
+                return s;
+            const double rz_new = r.dot(z);
+            if (!(rz_new > 0))
+                return std::isfinite(rz_new) ? SolveStatus::NotPositiveDefinite
+                                             : SolveStatus::NonFinite;
+            const double beta = rz_new / rz;
+            rz = rz_new;
+            p = z + beta * p;
+        }
+    }
+
+    bool refactor_due(const SparseMatrix& A) const {
+        return !factor.ready() || factor.size() != A.rows() || !factor.same_pattern(A)
+            || (options.refactor_every > 0 && solves_since_refactor >= options.refactor_every)
+            || refactor_requested;
+    }
+
+    /// The lagged factor is new: restart the refactor schedule.
+    void mark_refactored() {
+        solves_since_refactor = 0;
+        refactor_requested = false;
+        installed = true;
+    }
+
+    void install(CholmodSolver&& f) {
+        factor = std::move(f);
+        mark_refactored();
+    }
+
+    /// Chooses and prepares the preconditioner of this solve.
+    SolveStatus prepare(const SparseMatrix& A, PcgResult& result) {
+        Preconditioner use = options.preconditioner;
+        if (use == Preconditioner::LaggedCholesky) {
+            if (background) {
+                if (background->ready())
+                    if (std::optional<CholmodSolver> f = background->take())
+                        install(std::move(*f));
+                if (refactor_due(A) && !background->busy()) {
+                    background->start(A); // copies A: the caller may change it next step
+                    ++refactorizations;
+                    solves_since_refactor = 0;
+                    refactor_requested = false;
+                }
+                if (!factor.ready() || factor.size() != A.rows())
+                    use = Preconditioner::BlockJacobi3;
+            } else if (refactor_due(A)) {
+                ++refactorizations;
+                if (const SolveStatus s = factor.factorize(A); s != SolveStatus::Ok)
+                    return s;
+                mark_refactored();
+            }
+        }
+        result.used = use;
+        switch (use) {
+        case Preconditioner::Jacobi:
+            return setup_jacobi(A);
+        case Preconditioner::BlockJacobi3:
+            return setup_block_jacobi(A);
+        default:
+            return SolveStatus::Ok;
+        }
+    }
+};
+
+PcgSolver::PcgSolver(PcgOptions options)
+    : m_impl(std::make_unique<Impl>(options)) { }
+
+PcgSolver::~PcgSolver() = default;
+PcgSolver::PcgSolver(PcgSolver&&) noexcept = default;
+PcgSolver& PcgSolver::operator=(PcgSolver&&) noexcept = default;
+
+const PcgOptions& PcgSolver::options() const {
+    return m_impl->options;
+}
+
+void PcgSolver::reset() {
+    m_impl->factor = CholmodSolver {};
+    m_impl->solves_since_refactor = 0;
+    m_impl->refactor_requested = false;
+    m_impl->installed = false;
+    if (m_impl->background)
+        m_impl->background->cancel();
+}
+
+PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
+    Impl& impl = *m_impl;
+    PcgResult result;
+    const long n = A.rows();
+    if (A.cols() != n || b.size() != n)
+        throw InputError("PcgSolver::solve",
+            "matrix " + std::to_string(A.rows()) + " x " + std::to_string(A.cols())
+                + " does not match right-hand side of " + std::to_string(b.size()) + " rows");
+    if (x.size() != n || !x.allFinite())
+        x.setZero(n);
+    if (!b.allFinite()) {
+        result.status = SolveStatus::NonFinite;
+        return result;
+    }
+    const double b_norm = b.norm();
+    if (b_norm == 0) {
+        x.setZero();
+        return result;
+    }
+    impl.resize(n);
+    result.status = impl.prepare(A, result);
+    result.refactored = impl.installed;
+    impl.installed = false;
+    if (result.status != SolveStatus::Ok)
+        return result;
+
+    const double target = impl.options.relative_tolerance * b_norm;
+    result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
+    int iterations_with_factor = result.iterations;
+    // A stale lagged factor that cannot reach the tolerance: refactor once and go on from x.
+    if (result.status == SolveStatus::NotConverged && result.used == Preconditioner::LaggedCholesky
+        && !result.refactored && !impl.background) {
+        ++impl.refactorizations;
+        result.status = impl.factor.factorize(A);
+        impl.mark_refactored();
+        impl.installed = false;
+        result.refactored = true;
+        if (result.status == SolveStatus::Ok) {
+            int more = 0; // a fresh iteration budget
+            result.status = impl.iterate(A, b, x, target, result.used, more);
+            result.iterations += more;
+            iterations_with_factor = more;
+        }
+    }
+
+    ++impl.solves_since_refactor;
+    if (iterations_with_factor > impl.options.refactor_iterations)
+        impl.refactor_requested = true;
+    multiply_symmetric(A, x, impl.q);
+    impl.r = b - impl.q;
+    result.relative_residual = impl.r.norm() / b_norm;
+    return result;
+}
+
+void PcgSolver::set_preconditioner_factor(CholmodSolver&& factor) {
+    m_impl->install(std::move(factor));
+}
+
+void PcgSolver::finish_background_refactor() {
+    if (!m_impl->background)
+        return;
+    m_impl->background->wait();
+    if (m_impl->background->ready())
+        if (std::optional<CholmodSolver> f = m_impl->background->take())
+            m_impl->install(std::move(*f));
+}
+
+int PcgSolver::refactorizations() const {
+    return m_impl->refactorizations;
+}
+
+} // namespace polycut::solve

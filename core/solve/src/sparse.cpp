@@ -1,0 +1,44 @@
+// Names of solver outcomes, for step reports and logs.
+#include "polycut/solve/sparse.hpp"
+
+namespace polycut::solve {
+
+const char* to_string(SolveStatus s) {
+    switch (s) {
+    case SolveStatus::Ok:
+        return "ok";
+    case SolveStatus::NotPositiveDefinite:
+        return "not_positive_definite";
+    case SolveStatus::NotConverged:
+        return "not_converged";
+    case SolveStatus::NonFinite:
+        return "non_finite";
+    case SolveStatus::NotReady:
+        return "not_ready";
+    }
+    return "unknown";
+}
+
+} // namespace polycut::solve
+
+namespace polycut::solve {
+
+void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y) {
+    const long n = A.cols();
+    y.resize(n);
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    const double* values = A.valuePtr();
+    const int* counts = A.innerNonZeroPtr(); // null when compressed
+    const double* xs = x.data();
+    for (long j = 0; j < n; ++j) {
+        const int begin = outer[j];
+        const int end = counts ? begin + counts[j] : outer[j + 1];
+        double sum = 0;
+        for (int k = begin; k < end; ++k)
+            sum += values[k] * xs[inner[k]];
+        y[j] = sum;
+    }
+}
+
+} // namespace polycut::solve
