@@ -31,7 +31,7 @@ std::string fmt(double v) {
 struct Issues {
     std::vector<ValidationIssue> list;
     void add(Kind kind, Index cell, Index face, Index node, std::string message) {
-        list.push_back({ kind, cell, face, node, std::move(message) });
+        list.push_back({ kind, cell, face, node, kNone, std::move(message) });
     }
 };
 
@@ -364,10 +364,12 @@ void check_duplicates(const Mesh& mesh, const ValidationOptions& options,
                         }
                     }
                 }
-        if (twin != kNone)
+        if (twin != kNone) {
             issues.add(Kind::DuplicateNodes, first_cell[std::size_t(n)], kNone, n,
                 "node " + std::to_string(n) + " coincides with node " + std::to_string(twin)
                     + " (distance <= " + fmt(tol) + " m)");
+            issues.list.back().other = twin;
+        }
     }
 }
 

@@ -54,6 +54,7 @@ struct ValidationIssue {
     Index cell = kNone; ///< offending cell, kNone if none applies
     Index face = kNone; ///< offending global face id, kNone if none applies
     Index node = kNone; ///< offending node, kNone if none applies
+    Index other = kNone; ///< DuplicateNodes: the node `node` coincides with; kNone otherwise
     std::string message; ///< what is wrong, with numbers
 };
 
