@@ -1,0 +1,121 @@
+// The assembled elastic model of a mesh (DESIGN.md sec. 3-4): per-cell integration data, element
+// stiffness, lumped mass and fit gradients cached in rest space; a DOF numbering that eliminates
+// fixed DOFs; a CSC sparsity pattern of the reduced stiffness built once per topology, with a
+// scatter map from every cell matrix entry to its value slot so per-step assembly is a tight,
+// allocation-free loop. Forces: f = -R Ke (R^T (x - x_c) - (X - X_c)) per cell (corotated), or
+// f = -Ke (x - X) (linear); stiffness R Ke R^T (the dR/dx term is neglected, as in 000 sec. 3.6).
+#pragma once
+
+#include "polycut/basis/cell_basis.hpp"
+#include "polycut/elasticity/material.hpp"
+#include "polycut/mesh/mesh.hpp"
+#include "polycut/solve/sparse.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace polycut::elasticity {
+
+/// How elastic forces and stiffness are evaluated.
+enum class ForceMode {
+    Linear,    ///< small-strain linear elasticity, K constant
+    Corotated, ///< per-cell rotation from the affine fit's polar decomposition
+};
+
+/// One fixed-DOF mask entry per DOF (3#N), 1 = fixed. Helper: fix all three DOFs of the nodes
+/// with node_mask[i] != 0.
+std::vector<std::uint8_t> fix_nodes(const std::vector<std::uint8_t>& node_mask);
+
+/// The elastic model of a mesh. Holds a pointer to the mesh, which must outlive it; after the
+/// mesh is edited (a cut), call update_cells() or rebuild_topology() before the next assembly.
+class ElasticModel {
+public:
+    /// fixed_dofs: per-DOF mask (3#N, 1 = fixed; may be empty = nothing fixed). Throws
+    /// InputError for a bad material or mask size, MeshError for an invalid cell.
+    ElasticModel(const mesh::Mesh& mesh, const Material& material,
+        const basis::BasisOptions& options, std::vector<std::uint8_t> fixed_dofs);
+
+    const mesh::Mesh& mesh() const { return *m_mesh; }
+    const Material& material() const { return m_material; }
+    Index num_nodes() const { return Index(m_mass.size()); }
+    /// Number of free DOFs = size of the reduced system.
+    Index num_free_dofs() const { return m_num_free; }
+    /// Full DOF (3 node + axis) -> reduced DOF, or kNone when fixed (3#N).
+    const std::vector<Index>& dof_map() const { return m_dof_map; }
+    /// Per-DOF fixed mask (3#N).
+    const std::vector<std::uint8_t>& fixed_dofs() const { return m_fixed; }
+    /// Lumped nodal masses (#N) [kg].
+    const VecX& nodal_mass() const { return m_mass; }
+    /// Lumped mass per reduced DOF (#free) [kg].
+    const VecX& reduced_mass() const { return m_reduced_mass; }
+    /// Value slot in the CSC arrays of the diagonal entry of each reduced DOF (#free).
+    const std::vector<Index>& diagonal_slots() const { return m_diag_slots; }
+    /// Cached integration data and stiffness of a cell.
+    const basis::CellIntegration& cell_integration(Index c) const { return m_cells[std::size_t(c)].integration; }
+    Eigen::Map<const MatX> cell_stiffness(Index c) const;
+    /// Current rotation of a cell (identity until a corotated assembly).
+    const Mat3& cell_rotation(Index c) const { return m_rotation[std::size_t(c)]; }
+
+    /// A reduced matrix (#free x #free) with the model's sparsity pattern, all values zero.
+    /// Matrices made before a topology change must be remade.
+    solve::SparseMatrix make_matrix() const;
+
+    /// Evaluates at world positions x (#N x 3) [m]: into K (reduced, from make_matrix(); may be
+    /// null) the stiffness, and into f_int (3#N, resized; may be null) the elastic nodal forces [N]
+    /// (including reactions on fixed DOFs). Corotated mode updates the cached cell rotations.
+    /// No allocation once K and f_int have the right size.
+    void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int);
+
+    /// Elastic energy [J] at x: sum over cells of 1/2 u^T Ke u with the same local displacement u
+    /// as the forces (uses the cached rotations for Corotated; call assemble() first).
+    double elastic_energy(const MatX3& x, ForceMode mode) const;
+
+    /// Gathers the free entries of a full DOF vector (3#N) into a reduced one (#free).
+    void reduce(const VecX& full, VecX& reduced) const;
+    /// Scatters a reduced vector into the free entries of a full one (fixed entries untouched).
+    void expand(const VecX& reduced, VecX& full) const;
+
+    /// Recomputes the cached data of the listed cells after a cut edited them (rest positions,
+    /// nodes). Cells appended to the mesh are picked up too. The sparsity pattern and scatter map
+    /// are rebuilt when a cell's node list changed or cells were added/removed.
+    void update_cells(const std::vector<Index>& changed);
+    /// Recomputes everything from the mesh (new nodes are free; existing DOF masks are kept).
+    void rebuild_topology();
+    /// Replaces the fixed-DOF mask (3#N) and rebuilds the DOF numbering and pattern.
+    void set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs);
+    /// Incremented whenever the pattern (and DOF numbering) changes.
+    std::uint64_t topology_version() const { return m_topology_version; }
+
+private:
+    struct CellData {
+        basis::CellIntegration integration;
+        std::vector<Index> nodes; ///< copy of the mesh cell's nodes when the data was built
+        MatX stiffness;           ///< Ke (3n x 3n)
+        MatX3 fit;                ///< fit gradients G (n x 3)
+        MatX3 rest_local;         ///< X_i - X_c (n x 3)
+    };
+    void compute_cell(Index c);
+    void rebuild_mass();
+    void rebuild_pattern();
+
+    const mesh::Mesh* m_mesh;
+    Material m_material;
+    basis::BasisOptions m_options;
+    std::vector<std::uint8_t> m_fixed;
+    std::vector<CellData> m_cells;
+    std::vector<Mat3> m_rotation;
+    VecX m_mass;
+    VecX m_reduced_mass;
+    std::vector<Index> m_dof_map;
+    std::vector<Index> m_free_dofs; ///< reduced -> full
+    Index m_num_free = 0;
+    // Pattern: CSC of the reduced stiffness; scatter[c] has (3n)^2 value slots (kNone if fixed).
+    std::vector<int> m_outer;
+    std::vector<int> m_inner;
+    std::vector<std::size_t> m_scatter_offset;
+    std::vector<int> m_scatter;
+    std::vector<Index> m_diag_slots;
+    std::uint64_t m_topology_version = 0;
+};
+
+} // namespace polycut::elasticity

@@ -1,0 +1,19 @@
+// Element stiffness Ke = sum_q w_q B_q^T C B_q of any cell type from its CellIntegration
+// (000 eq. 9, 002 eq. 3.4 for P1).
+#pragma once
+
+#include "polycut/basis/cell_integration.hpp"
+#include "polycut/elasticity/material.hpp"
+
+namespace polycut::elasticity {
+
+/// Strain-displacement matrix B (6 x 3n) at one point from the gradients (n x 3) [1/m]; DOFs
+/// ordered [x0 y0 z0 x1 ...], Voigt order as elasticity_matrix().
+MatX strain_displacement(const MatX3& gradients);
+
+/// Element stiffness (3n x 3n) [N/m], symmetric positive semi-definite with the six rigid modes
+/// in its kernel. Computed block-wise: K_ij = sum_q w_q (lambda g_i g_j^T + mu g_j g_i^T +
+/// mu (g_i . g_j) I), which equals sum_q w_q B^T C B.
+MatX element_stiffness(const basis::CellIntegration& ci, const Material& material);
+
+} // namespace polycut::elasticity

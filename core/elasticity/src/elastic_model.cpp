@@ -1,0 +1,323 @@
+#include "polycut/elasticity/elastic_model.hpp"
+
+#include "polycut/common/error.hpp"
+#include "polycut/elasticity/element_stiffness.hpp"
+#include "polycut/elasticity/rotation.hpp"
+
+#include <algorithm>
+
+namespace polycut::elasticity {
+namespace {
+    /// Per-cell force and stiffness kernel; N = number of nodes when known at compile time
+    /// (4 for tets, 8 for hexes) so that Eigen uses fixed-size 12x12 / 24x24 products.
+    template <int N>
+    void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const MatX3& G,
+        const MatX3& Xr, const MatX3& x, bool corotated, Mat3& R, double* ubuf, double* fbuf,
+        const int* scatter, double* Kvals, double* fint)
+    {
+        constexpr int D = (N == Eigen::Dynamic) ? Eigen::Dynamic : 3 * N;
+        const int d = 3 * n;
+        const Eigen::Map<const Eigen::Matrix<double, D, D>> K(Ke.data(), d, d);
+        Eigen::Map<Eigen::Matrix<double, D, 1>> u(ubuf, d), fl(fbuf, d);
+        Vec3 xc = Vec3::Zero();
+        for (int i = 0; i < n; ++i)
+            xc += x.row(nodes[std::size_t(i)]).transpose();
+        xc /= double(n);
+        if (corotated) {
+            Mat3 A = Mat3::Zero();
+            for (int i = 0; i < n; ++i)
+                A.noalias() += (x.row(nodes[std::size_t(i)]).transpose() - xc) * G.row(i);
+            R = polar_rotation_warm(A, R);
+            for (int i = 0; i < n; ++i)
+                u.template segment<3>(3 * i) = R.transpose() * (x.row(nodes[std::size_t(i)]).transpose() - xc)
+                    - Xr.row(i).transpose();
+        } else {
+            for (int i = 0; i < n; ++i)
+                u.template segment<3>(3 * i)
+                    = x.row(nodes[std::size_t(i)]).transpose() - xc - Xr.row(i).transpose();
+        }
+        if (fint) {
+            fl.noalias() = K * u;
+            for (int i = 0; i < n; ++i) {
+                const Vec3 fi = corotated ? Vec3(R * fl.template segment<3>(3 * i)) : Vec3(fl.template segment<3>(3 * i));
+                double* dst = fint + 3 * std::size_t(nodes[std::size_t(i)]);
+                dst[0] -= fi.x();
+                dst[1] -= fi.y();
+                dst[2] -= fi.z();
+            }
+        }
+        if (Kvals) {
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const Mat3 B = corotated
+                        ? Mat3(R * K.template block<3, 3>(3 * i, 3 * j) * R.transpose())
+                        : Mat3(K.template block<3, 3>(3 * i, 3 * j));
+                    for (int b = 0; b < 3; ++b)
+                        for (int a = 0; a < 3; ++a) {
+                            const int s = scatter[std::size_t(3 * i + a) * std::size_t(d) + std::size_t(3 * j + b)];
+                            if (s >= 0)
+                                Kvals[s] += B(a, b);
+                        }
+                }
+        }
+    }
+} // namespace
+
+std::vector<std::uint8_t> fix_nodes(const std::vector<std::uint8_t>& node_mask)
+{
+    std::vector<std::uint8_t> dofs(3 * node_mask.size(), 0);
+    for (std::size_t i = 0; i < node_mask.size(); ++i)
+        if (node_mask[i])
+            dofs[3 * i] = dofs[3 * i + 1] = dofs[3 * i + 2] = 1;
+    return dofs;
+}
+
+ElasticModel::ElasticModel(const mesh::Mesh& mesh, const Material& material,
+    const basis::BasisOptions& options, std::vector<std::uint8_t> fixed_dofs)
+    : m_mesh(&mesh)
+    , m_material(material)
+    , m_options(options)
+    , m_fixed(std::move(fixed_dofs))
+{
+    validate(material);
+    if (!m_fixed.empty() && m_fixed.size() != 3 * std::size_t(mesh.num_nodes()))
+        throw InputError("fixed_dofs", "the fixed-DOF mask needs 3 entries per node");
+    rebuild_topology();
+}
+
+Eigen::Map<const MatX> ElasticModel::cell_stiffness(Index c) const
+{
+    const MatX& K = m_cells[std::size_t(c)].stiffness;
+    return { K.data(), K.rows(), K.cols() };
+}
+
+void ElasticModel::compute_cell(Index c)
+{
+    CellData& cd = m_cells[std::size_t(c)];
+    const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
+    cd.nodes = cell.nodes;
+    cd.integration = basis::integrate_cell(*m_mesh, c, m_options);
+    cd.stiffness = element_stiffness(cd.integration, m_material);
+    const std::vector<Vec3> X = [&] {
+        std::vector<Vec3> p;
+        for (Index i : cell.nodes)
+            p.push_back(m_mesh->rest[std::size_t(i)]);
+        return p;
+    }();
+    if (!fit_gradients(X, cd.fit))
+        throw MeshError(c, -1, "cell nodes do not span 3D: no affine fit for corotation");
+    Vec3 Xc = Vec3::Zero();
+    for (const Vec3& p : X)
+        Xc += p;
+    Xc /= double(X.size());
+    cd.rest_local.resize(Index(X.size()), 3);
+    for (std::size_t i = 0; i < X.size(); ++i)
+        cd.rest_local.row(Index(i)) = (X[i] - Xc).transpose();
+}
+
+void ElasticModel::rebuild_mass()
+{
+    m_mass.setZero(m_mesh->num_nodes());
+    for (const CellData& cd : m_cells)
+        for (std::size_t i = 0; i < cd.nodes.size(); ++i)
+            m_mass(cd.nodes[i]) += m_material.density * cd.integration.lumped_volume(Index(i));
+    m_reduced_mass.resize(m_num_free);
+    for (Index r = 0; r < m_num_free; ++r)
+        m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
+}
+
+void ElasticModel::rebuild_topology()
+{
+    const Index n = m_mesh->num_nodes();
+    m_fixed.resize(3 * std::size_t(n), 0);
+    m_cells.assign(std::size_t(m_mesh->num_cells()), CellData {});
+    m_rotation.assign(m_cells.size(), Mat3::Identity());
+    for (Index c = 0; c < m_mesh->num_cells(); ++c)
+        compute_cell(c);
+    rebuild_pattern();
+    rebuild_mass();
+}
+
+void ElasticModel::update_cells(const std::vector<Index>& changed)
+{
+    if (std::size_t(m_mesh->num_cells()) != m_cells.size()
+        || 3 * std::size_t(m_mesh->num_nodes()) != m_fixed.size()) {
+        rebuild_topology();
+        return;
+    }
+    bool topology = false;
+    for (Index c : changed) {
+        if (c < 0 || c >= m_mesh->num_cells())
+            throw InputError("changed", "cell id out of range");
+        topology |= m_cells[std::size_t(c)].nodes != m_mesh->cells[std::size_t(c)].nodes;
+        compute_cell(c);
+        m_rotation[std::size_t(c)] = Mat3::Identity();
+    }
+    if (topology)
+        rebuild_pattern();
+    rebuild_mass();
+}
+
+void ElasticModel::set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs)
+{
+    if (fixed_dofs.size() != 3 * std::size_t(m_mesh->num_nodes()))
+        throw InputError("fixed_dofs", "the fixed-DOF mask needs 3 entries per node");
+    m_fixed = std::move(fixed_dofs);
+    rebuild_pattern();
+    rebuild_mass();
+}
+
+void ElasticModel::rebuild_pattern()
+{
+    const std::size_t ndof = 3 * std::size_t(m_mesh->num_nodes());
+    // DOFs of nodes that no cell uses are eliminated too (they would be singular).
+    std::vector<std::uint8_t> used(std::size_t(m_mesh->num_nodes()), 0);
+    for (const CellData& cd : m_cells)
+        for (Index i : cd.nodes)
+            used[std::size_t(i)] = 1;
+    m_dof_map.assign(ndof, kNone);
+    m_free_dofs.clear();
+    for (std::size_t k = 0; k < ndof; ++k)
+        if (!m_fixed[k] && used[k / 3]) {
+            m_dof_map[k] = Index(m_free_dofs.size());
+            m_free_dofs.push_back(Index(k));
+        }
+    m_num_free = Index(m_free_dofs.size());
+
+    // Column structure: rows of each reduced column, sorted and unique.
+    std::vector<std::vector<int>> columns(static_cast<std::size_t>(m_num_free));
+    std::vector<Index> local;
+    for (const CellData& cd : m_cells) {
+        local.clear();
+        for (Index i : cd.nodes)
+            for (int a = 0; a < 3; ++a)
+                if (Index r = m_dof_map[3 * std::size_t(i) + std::size_t(a)]; r != kNone)
+                    local.push_back(r);
+        for (Index c : local)
+            for (Index r : local)
+                columns[std::size_t(c)].push_back(r);
+    }
+    m_outer.assign(std::size_t(m_num_free) + 1, 0);
+    m_inner.clear();
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+        auto& col = columns[c];
+        std::sort(col.begin(), col.end());
+        col.erase(std::unique(col.begin(), col.end()), col.end());
+        m_inner.insert(m_inner.end(), col.begin(), col.end());
+        m_outer[c + 1] = int(m_inner.size());
+        std::vector<int>().swap(col);
+    }
+    auto slot = [&](Index r, Index c) {
+        const auto begin = m_inner.begin() + m_outer[std::size_t(c)];
+        const auto end = m_inner.begin() + m_outer[std::size_t(c) + 1];
+        return int(std::lower_bound(begin, end, r) - m_inner.begin());
+    };
+    m_diag_slots.resize(std::size_t(m_num_free));
+    for (Index r = 0; r < m_num_free; ++r)
+        m_diag_slots[std::size_t(r)] = slot(r, r);
+    // Scatter: entry (row 3i+a, col 3j+b) of cell matrix -> value slot.
+    m_scatter_offset.assign(m_cells.size() + 1, 0);
+    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        const std::size_t d = 3 * m_cells[c].nodes.size();
+        m_scatter_offset[c + 1] = m_scatter_offset[c] + d * d;
+    }
+    m_scatter.assign(m_scatter_offset.back(), -1);
+    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        const auto& nodes = m_cells[c].nodes;
+        const std::size_t d = 3 * nodes.size();
+        int* sc = m_scatter.data() + m_scatter_offset[c];
+        for (std::size_t p = 0; p < d; ++p) {
+            const Index r = m_dof_map[3 * std::size_t(nodes[p / 3]) + p % 3];
+            if (r == kNone)
+                continue;
+            for (std::size_t q = 0; q < d; ++q) {
+                const Index col = m_dof_map[3 * std::size_t(nodes[q / 3]) + q % 3];
+                if (col != kNone)
+                    sc[p * d + q] = slot(r, col);
+            }
+        }
+    }
+    ++m_topology_version;
+}
+
+solve::SparseMatrix ElasticModel::make_matrix() const
+{
+    solve::SparseMatrix A(m_num_free, m_num_free);
+    A.resizeNonZeros(Index(m_inner.size()));
+    std::copy(m_outer.begin(), m_outer.end(), A.outerIndexPtr());
+    std::copy(m_inner.begin(), m_inner.end(), A.innerIndexPtr());
+    std::fill(A.valuePtr(), A.valuePtr() + m_inner.size(), 0.0);
+    return A;
+}
+
+void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int)
+{
+    double* Kvals = nullptr;
+    if (K) {
+        if (K->rows() != m_num_free || K->nonZeros() != Index(m_inner.size()) || !K->isCompressed())
+            *K = make_matrix();
+        std::fill(K->valuePtr(), K->valuePtr() + m_inner.size(), 0.0);
+        Kvals = K->valuePtr();
+    }
+    double* fint = nullptr;
+    if (f_int) {
+        f_int->setZero(3 * x.rows());
+        fint = f_int->data();
+    }
+    const bool corotated = mode == ForceMode::Corotated;
+    double ubuf[24], fbuf[24];
+    std::vector<double> ubig, fbig;
+    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        const CellData& cd = m_cells[c];
+        const int n = int(cd.nodes.size());
+        const int* sc = m_scatter.data() + m_scatter_offset[c];
+        Mat3& R = m_rotation[c];
+        if (n == 4)
+            cell_kernel<4>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x, corotated, R, ubuf,
+                fbuf, sc, Kvals, fint);
+        else if (n == 8)
+            cell_kernel<8>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x, corotated, R, ubuf,
+                fbuf, sc, Kvals, fint);
+        else {
+            ubig.resize(3 * std::size_t(n));
+            fbig.resize(3 * std::size_t(n));
+            cell_kernel<Eigen::Dynamic>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x,
+                corotated, R, ubig.data(), fbig.data(), sc, Kvals, fint);
+        }
+    }
+}
+
+double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const
+{
+    double energy = 0;
+    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        const CellData& cd = m_cells[c];
+        const Index n = Index(cd.nodes.size());
+        const Mat3 R = mode == ForceMode::Corotated ? m_rotation[c] : Mat3::Identity();
+        Vec3 xc = Vec3::Zero();
+        for (Index i : cd.nodes)
+            xc += x.row(i).transpose();
+        xc /= double(n);
+        VecX u(3 * n);
+        for (Index i = 0; i < n; ++i)
+            u.segment<3>(3 * i) = R.transpose() * (x.row(cd.nodes[std::size_t(i)]).transpose() - xc)
+                - cd.rest_local.row(i).transpose();
+        energy += 0.5 * u.dot(cd.stiffness * u);
+    }
+    return energy;
+}
+
+void ElasticModel::reduce(const VecX& full, VecX& reduced) const
+{
+    reduced.resize(m_num_free);
+    for (Index r = 0; r < m_num_free; ++r)
+        reduced(r) = full(m_free_dofs[std::size_t(r)]);
+}
+
+void ElasticModel::expand(const VecX& reduced, VecX& full) const
+{
+    for (Index r = 0; r < m_num_free; ++r)
+        full(m_free_dofs[std::size_t(r)]) = reduced(r);
+}
+
+} // namespace polycut::elasticity
