@@ -120,6 +120,21 @@ TEST(Renderer, AutomaticCameraFramesTheObject) {
         }
 }
 
+TEST(Renderer, PerPixelAndPerVertexLightingAgreeOnFlatFaces) {
+    // The block's faces are planar, so both lighting variants see the same normals; they
+    // differ only where view-dependent terms vary across a triangle.
+    BlockSpec spec;
+    spec.notch_depth = 0.02;
+    const TestSurface block = make_block(spec);
+    RenderConfig config = small_config(320, 240);
+    const Camera camera = block_camera(config.width, config.height);
+    const Image gouraud = Renderer(config).render(block.draw_list(), camera);
+    config.per_pixel_lighting = true;
+    const Image phong = Renderer(config).render(block.draw_list(), camera);
+    const ImageDiff diff = compare(gouraud, phong, 8);
+    EXPECT_LT(diff.differing_fraction, 0.01);
+}
+
 TEST(Renderer, EmptySceneIsBackground) {
     const RenderConfig config = small_config(64, 48);
     Renderer renderer(config);

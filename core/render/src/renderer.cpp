@@ -100,7 +100,9 @@ void Renderer::Impl::create_gl_objects() {
     if (multisampled)
         resolve_target.create(config.width, config.height, 0, false);
 
-    lit_program = gl::link_program(shaders::kLitVertex, shaders::kLitFragment);
+    lit_program = config.per_pixel_lighting
+        ? gl::link_program(shaders::kLitVertex, shaders::kLitFragment)
+        : gl::link_program(shaders::kGouraudVertex, shaders::kGouraudFragment);
     line_program = gl::link_program(shaders::kLineVertex, shaders::kLineFragment);
 
     // Bind-to-edit rather than 4.5 direct state access: libOSMesa exports the GL entry points
