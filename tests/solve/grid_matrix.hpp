@@ -11,11 +11,24 @@
 
 namespace polycut::solve::testing {
 
+/// Node coupling: all 26 neighbours (Q1 hexes) or the 14 of a Kuhn-6 tet split along the main
+/// diagonal (P1 tets, as in the bench_box scenes).
+enum class Stencil { Hex27, Kuhn15 };
+
+/// True if the offset (di, dj, dk) joins two nodes of a common Kuhn tet: all non-zero
+/// components have the same sign.
+inline bool kuhn_neighbour(int di, int dj, int dk) {
+    const bool any_positive = di > 0 || dj > 0 || dk > 0;
+    const bool any_negative = di < 0 || dj < 0 || dk < 0;
+    return !(any_positive && any_negative);
+}
+
 /// Vector Laplacian-like stiffness: each neighbour pair (i, j) with unit direction d adds the
 /// spring block B = k (0.5 I + d d^T), k uniform in [0.5, 1.5) from `seed`, to K_ii and K_jj and
 /// -B to K_ij and K_ji. K is symmetric positive semi-definite with exactly the three rigid
 /// translations as null space; `shift` I is added, so lambda_min(K) = shift.
-inline SparseMatrix grid_matrix(int nx, int ny, int nz, double shift, unsigned seed = 1) {
+inline SparseMatrix grid_matrix(
+    int nx, int ny, int nz, double shift, unsigned seed = 1, Stencil stencil = Stencil::Hex27) {
     const auto node = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
     const int nodes = nx * ny * nz;
     std::mt19937 rng(seed);
@@ -39,6 +52,8 @@ inline SparseMatrix grid_matrix(int nx, int ny, int nz, double shift, unsigned s
                             const int a = node(i, j, k), b = node(i2, j2, k2);
                             if (b <= a)
                                 continue; // each pair once
+                            if (stencil == Stencil::Kuhn15 && !kuhn_neighbour(di, dj, dk))
+                                continue;
                             const Eigen::Vector3d d = Eigen::Vector3d(di, dj, dk).normalized();
                             const Eigen::Matrix3d block = stiffness(rng)
                                 * (0.5 * Eigen::Matrix3d::Identity() + d * d.transpose());

@@ -47,6 +47,24 @@ TEST(CholmodSolver, SolvesSpdSystemLikeEigenLdlt) {
     EXPECT_EQ((x2 - x).norm(), 0.0);
 }
 
+TEST(CholmodSolver, OrderingsGiveTheSameSolution) {
+    const SparseMatrix A = grid_matrix(7, 8, 9, 1e-2);
+    const Vector b = random_vector(A.rows(), 8);
+    Vector x[3];
+    long fill[3] = {};
+    const Ordering orderings[3] = { Ordering::Auto, Ordering::Amd, Ordering::Metis };
+    for (int k = 0; k < 3; ++k) {
+        CholmodSolver solver(orderings[k]);
+        ASSERT_EQ(solver.factorize(A), SolveStatus::Ok);
+        ASSERT_EQ(solver.solve(b, x[k]), SolveStatus::Ok);
+        EXPECT_LT(relative_residual(A, x[k], b), 1e-10);
+        fill[k] = solver.factor_nonzeros();
+    }
+    EXPECT_LT((x[1] - x[2]).norm(), 1e-10 * x[2].norm());
+    // Auto keeps the better of AMD and METIS
+    EXPECT_LE(fill[0], std::max(fill[1], fill[2]));
+}
+
 TEST(CholmodSolver, BlasRunsSingleThreadedByDefault) {
     CholmodSolver solver;
     const int threads = blas_threads();

@@ -84,12 +84,17 @@ struct CholmodSolver::Impl {
     int analyses = 0;
     double flops = 0;
 
-    Impl() {
+    explicit Impl(Ordering ordering) {
         init_blas_threads_once();
         cholmod_start(&common);
         common.supernodal = CHOLMOD_SUPERNODAL;
         common.final_ll = 1;
         common.print = 0; // statuses are reported to the caller, nothing goes to stdout
+        if (ordering != Ordering::Auto) {
+            common.nmethods = 1;
+            common.method[0].ordering = ordering == Ordering::Amd ? CHOLMOD_AMD : CHOLMOD_METIS;
+            common.postorder = 1;
+        }
     }
     ~Impl() {
         free_workspace();
@@ -148,7 +153,10 @@ struct CholmodSolver::Impl {
 };
 
 CholmodSolver::CholmodSolver()
-    : m_impl(std::make_unique<Impl>()) { }
+    : CholmodSolver(Ordering::Auto) { }
+
+CholmodSolver::CholmodSolver(Ordering ordering)
+    : m_impl(std::make_unique<Impl>(ordering)) { }
 
 CholmodSolver::~CholmodSolver() = default;
 CholmodSolver::CholmodSolver(CholmodSolver&&) noexcept = default;
@@ -157,14 +165,14 @@ CholmodSolver& CholmodSolver::operator=(CholmodSolver&&) noexcept = default;
 void CholmodSolver::analyze(const SparseMatrix& A) {
     check_square(A, "CholmodSolver::analyze");
     if (!m_impl)
-        m_impl = std::make_unique<Impl>();
+        m_impl = std::make_unique<Impl>(Ordering::Auto);
     m_impl->analyze(m_impl->compressed_input(A));
 }
 
 SolveStatus CholmodSolver::factorize(const SparseMatrix& A_in) {
     check_square(A_in, "CholmodSolver::factorize");
     if (!m_impl)
-        m_impl = std::make_unique<Impl>();
+        m_impl = std::make_unique<Impl>(Ordering::Auto);
     Impl& impl = *m_impl;
     const SparseMatrix& A = impl.compressed_input(A_in);
     impl.ready = false;

@@ -8,6 +8,13 @@
 
 namespace polycut::solve {
 
+/// Fill-reducing ordering used by CholmodSolver::analyze().
+enum class Ordering {
+    Auto, ///< CHOLMOD's default: AMD, and METIS too when AMD's fill is high; keeps the better
+    Amd, ///< approximate minimum degree only (cheapest analysis)
+    Metis, ///< nested dissection only (least fill on 3D meshes, slower analysis)
+};
+
 /// CHOLMOD LL^T. Analyze once per sparsity pattern, factorize per matrix, solve many times.
 /// A matrix that is not positive definite is reported, never solved.
 ///
@@ -17,6 +24,8 @@ namespace polycut::solve {
 class CholmodSolver {
 public:
     CholmodSolver();
+    /// A solver that analyzes with the given ordering.
+    explicit CholmodSolver(Ordering ordering);
     ~CholmodSolver();
     CholmodSolver(CholmodSolver&&) noexcept;
     CholmodSolver& operator=(CholmodSolver&&) noexcept;
