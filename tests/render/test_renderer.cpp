@@ -64,6 +64,23 @@ TEST(Renderer, SameInputGivesIdenticalBytes) {
     EXPECT_EQ(first.rgba, other.rgba);
 }
 
+TEST(Renderer, FramesDoNotLeakIntoEachOther) {
+    // Buffers are reused and grown between frames: a small scene after a large one must look
+    // exactly as it does from a fresh renderer.
+    const TestSurface block = make_block();
+    const TestSurface blob = make_blob(96, 48, 0.05);
+    const RenderConfig config = small_config();
+    const Camera camera = block_camera(config.width, config.height);
+    Renderer renderer(config);
+    renderer.render(blob.draw_list(), camera);
+    const Image after_large = renderer.render(block.draw_list(), camera);
+    renderer.render(DrawList {}, camera);
+    const Image after_empty = renderer.render(block.draw_list(), camera);
+    const Image fresh = Renderer(config).render(block.draw_list(), camera);
+    EXPECT_EQ(after_large.rgba, fresh.rgba);
+    EXPECT_EQ(after_empty.rgba, fresh.rgba);
+}
+
 TEST(Renderer, ImageIsRightWayUp) {
     // One triangle above and to the right of the target: it must land in the top-right
     // quadrant of the image (GL's bottom-up rows are flipped).

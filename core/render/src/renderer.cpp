@@ -55,6 +55,17 @@ void set_matrix(GLuint program, const char* name, const Eigen::Matrix4d& m) {
     glProgramUniformMatrix4fv(program, glGetUniformLocation(program, name), 1, GL_FALSE, f.data());
 }
 
+/// Copies `bytes` into the buffer bound to `target`, growing it (by half again) only when
+/// the data does not fit, so a steady frame loop does not reallocate. The read-back at the
+/// end of every frame has already waited for the previous draw, so the copy never stalls.
+void upload(GLenum target, std::size_t bytes, const void* data, std::size_t& capacity) {
+    if (bytes > capacity) {
+        capacity = bytes + bytes / 2;
+        glBufferData(target, GLsizeiptr(capacity), nullptr, GL_DYNAMIC_DRAW);
+    }
+    glBufferSubData(target, 0, GLsizeiptr(bytes), data);
+}
+
 void check_finite(const Vec3& v, const std::string& where) {
     if (!v.allFinite())
         throw InputError(where, "not finite");
@@ -69,6 +80,7 @@ struct Renderer::Impl {
     Framebuffer draw_target, resolve_target;
     GLuint lit_program = 0, line_program = 0;
     GLuint lit_vao = 0, lit_vbo = 0, lit_ebo = 0, line_vao = 0, line_vbo = 0;
+    std::size_t lit_vbo_bytes = 0, lit_ebo_bytes = 0, line_vbo_bytes = 0; // buffer capacities
 
     // Per-frame scratch, kept so that a steady frame loop does not allocate.
     ShadedMesh shaded;
@@ -251,11 +263,10 @@ void Renderer::Impl::draw(const Camera& camera) {
         }
         glBindVertexArray(lit_vao);
         glBindBuffer(GL_ARRAY_BUFFER, lit_vbo);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(lit.vertices.size() * sizeof(LitVertex)),
-            lit.vertices.data(), GL_STREAM_DRAW);
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-            GLsizeiptr(lit.indices.size() * sizeof(std::uint32_t)), lit.indices.data(),
-            GL_STREAM_DRAW);
+        upload(GL_ARRAY_BUFFER, lit.vertices.size() * sizeof(LitVertex), lit.vertices.data(),
+            lit_vbo_bytes);
+        upload(GL_ELEMENT_ARRAY_BUFFER, lit.indices.size() * sizeof(std::uint32_t),
+            lit.indices.data(), lit_ebo_bytes);
         set_matrix(lit_program, "u_view", view);
         set_matrix(lit_program, "u_projection", projection);
         glUseProgram(lit_program);
@@ -264,8 +275,7 @@ void Renderer::Impl::draw(const Camera& camera) {
     if (!lines.empty()) {
         glBindVertexArray(line_vao);
         glBindBuffer(GL_ARRAY_BUFFER, line_vbo);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(lines.size() * sizeof(LineVertex)), lines.data(),
-            GL_STREAM_DRAW);
+        upload(GL_ARRAY_BUFFER, lines.size() * sizeof(LineVertex), lines.data(), line_vbo_bytes);
         set_matrix(line_program, "u_view", view);
         set_matrix(line_program, "u_projection", projection);
         glUseProgram(line_program);
