@@ -564,3 +564,64 @@ TEST(WriteObj, WritesOneBasedFaces) {
     EXPECT_FALSE(fs::exists(dir / "bad.obj"));
     EXPECT_THROW(write_obj("/nonexistent-dir/x.obj", P, { { 0, 1, 2 } }), FileError);
 }
+
+// ---- never a crash, never a half-built mesh ----
+
+TEST(ReadVolumeMesh, CorruptedSamplesThrowFileErrorOrGiveValidMeshes) {
+    // Every truncation of each sample, and each line with one token replaced by junk, must give
+    // either a FileError or a mesh that passes validate() (e.g. a changed coordinate that keeps
+    // the cells valid).
+    const fs::path dir = test_dir();
+    const std::vector<std::pair<std::string, std::string>> samples { { "blocks_v2.msh", "" },
+        { "blocks_v41.msh", "" }, { "cube.node", "cube.ele" }, { "cube.ele", "cube.node" } };
+    const std::vector<std::string> junk { "x", "-1", "1e999", "nan", "99999", "$Nodes", "0.5" };
+    int cases = 0, accepted = 0;
+    auto attempt = [&](const std::string& name, const std::string& text, const std::string& other) {
+        const fs::path case_dir = dir / std::to_string(cases++);
+        fs::create_directories(case_dir);
+        write_text(case_dir / name, text);
+        if (!other.empty())
+            fs::copy_file(kData + other, case_dir / other);
+        try {
+            const Mesh m = read_volume_mesh((case_dir / name).string());
+            EXPECT_NO_THROW(validate(m)) << case_dir;
+            ++accepted;
+        } catch (const FileError& e) {
+            EXPECT_GE(e.line(), 0);
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << case_dir << ": not a FileError: " << e.what();
+        }
+    };
+    for (const auto& [name, other] : samples) {
+        std::vector<std::string> lines;
+        std::istringstream in(read_text(kData + name));
+        for (std::string line; std::getline(in, line);)
+            lines.push_back(line);
+        for (std::size_t k = 0; k < lines.size(); ++k) {
+            std::string head;
+            for (std::size_t i = 0; i < k; ++i)
+                head += lines[i] + "\n";
+            attempt(name, head, other);
+            std::istringstream tokens(lines[k]);
+            std::vector<std::string> words;
+            for (std::string w; tokens >> w;)
+                words.push_back(w);
+            for (std::size_t w = 0; w < words.size(); ++w) {
+                const std::string& bad = junk[(k + w) % junk.size()];
+                std::string text;
+                for (std::size_t i = 0; i < lines.size(); ++i) {
+                    if (i != k) {
+                        text += lines[i] + "\n";
+                        continue;
+                    }
+                    for (std::size_t v = 0; v < words.size(); ++v)
+                        text += (v ? " " : "") + (v == w ? bad : words[v]);
+                    text += "\n";
+                }
+                attempt(name, text, other);
+            }
+        }
+    }
+    EXPECT_GT(cases, 500);
+    EXPECT_GT(accepted, 0); // some harmless edits (a changed attribute) must still read
+}

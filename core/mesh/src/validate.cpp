@@ -347,10 +347,17 @@ void check_duplicates(const Mesh& mesh, const ValidationOptions& options,
     std::sort(keyed.begin(), keyed.end());
     for (const auto& [key, n] : keyed) {
         const Vec3& p = mesh.rest[std::size_t(n)];
+        // Neighbour bins only where p is within tol of the bin's side (bins are >= tol wide).
+        std::array<int, 3> from {}, to {};
+        for (int a = 0; a < 3; ++a) {
+            const double offset = (p[a] - box.lo[a]) - double(key[std::size_t(a)]) * bin;
+            from[std::size_t(a)] = offset <= tol ? -1 : 0;
+            to[std::size_t(a)] = bin - offset <= tol ? 1 : 0;
+        }
         Index twin = kNone;
-        for (int dz = -1; dz <= 1 && twin == kNone; ++dz)
-            for (int dy = -1; dy <= 1 && twin == kNone; ++dy)
-                for (int dx = -1; dx <= 1 && twin == kNone; ++dx) {
+        for (int dz = from[2]; dz <= to[2] && twin == kNone; ++dz)
+            for (int dy = from[1]; dy <= to[1] && twin == kNone; ++dy)
+                for (int dx = from[0]; dx <= to[0] && twin == kNone; ++dx) {
                     const Key k { key[0] + dx, key[1] + dy, key[2] + dz };
                     auto it = std::lower_bound(keyed.begin(), keyed.end(),
                         std::pair<Key, Index> { k, std::numeric_limits<Index>::min() });
