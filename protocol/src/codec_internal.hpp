@@ -26,8 +26,8 @@ json encode_result_json(const Result& result, Message& frames);
 void write_surface_header(const SurfaceHeader& header, json& out);
 /// Surface header plus its arrays (positions always; triangles/tags when has_topology) from an
 /// object; unknown members are ignored (tolerant reader). `code` is used for every failure.
-SurfaceFrame read_surface(const json& value, const std::string& pointer, FrameSet& frames,
-    ErrorCode code);
+SurfaceFrame read_surface(
+    const json& value, const std::string& pointer, FrameSet& frames, ErrorCode code);
 /// Appends positions (and triangles/tags when has_topology) as frames and their references to
 /// `out`.
 void write_surface_arrays(const SurfaceHeader& header, std::span<const float> positions,

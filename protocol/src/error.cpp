@@ -5,8 +5,7 @@
 
 namespace polycut::protocol {
 
-std::string_view default_message(ErrorCode code)
-{
+std::string_view default_message(ErrorCode code) {
     switch (code) {
     case ErrorCode::ParseError:
         return "Parse error";
@@ -36,19 +35,16 @@ std::string_view default_message(ErrorCode code)
     return "Server error";
 }
 
-bool is_envelope_error(ErrorCode code)
-{
+bool is_envelope_error(ErrorCode code) {
     return code == ErrorCode::ParseError || code == ErrorCode::InvalidRequest;
 }
 
-RpcError make_error(ErrorCode code, std::string pointer, std::string reason)
-{
+RpcError make_error(ErrorCode code, std::string pointer, std::string reason) {
     return RpcError { code, std::string(default_message(code)), std::move(pointer),
         std::move(reason) };
 }
 
-std::string pointer_append(std::string_view pointer, std::string_view token)
-{
+std::string pointer_append(std::string_view pointer, std::string_view token) {
     std::string out(pointer);
     out.reserve(out.size() + token.size() + 1);
     out += '/';
@@ -64,8 +60,7 @@ std::string pointer_append(std::string_view pointer, std::string_view token)
     return out;
 }
 
-std::string pointer_append(std::string_view pointer, std::size_t index)
-{
+std::string pointer_append(std::string_view pointer, std::size_t index) {
     std::string out(pointer);
     out += '/';
     out += std::to_string(index);

@@ -14,11 +14,11 @@ constexpr bool kLittle = std::endian::native == std::endian::little;
 static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big,
     "mixed-endian hosts are not supported");
 
-std::uint32_t byteswap32(std::uint32_t v) { return __builtin_bswap32(v); }
+std::uint32_t byteswap32(std::uint32_t v) {
+    return __builtin_bswap32(v);
+}
 
-template <class T>
-Frame encode_4byte(std::span<const T> values)
-{
+template <class T> Frame encode_4byte(std::span<const T> values) {
     static_assert(sizeof(T) == 4);
     Frame out(values.size() * 4, '\0');
     if constexpr (kLittle) {
@@ -36,9 +36,7 @@ Frame encode_4byte(std::span<const T> values)
     return out;
 }
 
-template <class T>
-void read_4byte(std::string_view bytes, std::vector<T>& out)
-{
+template <class T> void read_4byte(std::string_view bytes, std::vector<T>& out) {
     out.resize(bytes.size() / 4);
     if (out.empty()) {
         return;
@@ -55,8 +53,7 @@ void read_4byte(std::string_view bytes, std::vector<T>& out)
 }
 
 /// C-order multi-index of flat element `flat` appended to `pointer`.
-std::string element_pointer(std::string_view pointer, const FrameRef& ref, std::uint64_t flat)
-{
+std::string element_pointer(std::string_view pointer, const FrameRef& ref, std::uint64_t flat) {
     std::vector<std::uint64_t> index(ref.shape.size(), 0);
     for (std::size_t d = ref.shape.size(); d-- > 0;) {
         const std::uint64_t extent = ref.shape[d] == 0 ? 1 : ref.shape[d];
@@ -72,8 +69,7 @@ std::string element_pointer(std::string_view pointer, const FrameRef& ref, std::
 
 /// Checks dtype and byte length; returns an error or nullopt.
 std::optional<RpcError> check_layout(
-    std::string_view bytes, const FrameRef& ref, DType expected, std::string_view pointer)
-{
+    std::string_view bytes, const FrameRef& ref, DType expected, std::string_view pointer) {
     if (ref.dtype != expected) {
         return make_error(ErrorCode::InvalidParams, pointer_append(pointer, "dtype"),
             "dtype must be " + std::string(dtype_name(expected)) + ", got "
@@ -82,8 +78,8 @@ std::optional<RpcError> check_layout(
     const auto count = ref.element_count();
     const std::uint64_t itemsize = dtype_size(expected);
     if (!count || *count > std::numeric_limits<std::uint64_t>::max() / itemsize) {
-        return make_error(ErrorCode::PayloadTooLarge, pointer_append(pointer, "shape"),
-            "shape overflows");
+        return make_error(
+            ErrorCode::PayloadTooLarge, pointer_append(pointer, "shape"), "shape overflows");
     }
     if (bytes.size() != *count * itemsize) {
         return make_error(ErrorCode::InvalidParams, std::string(pointer),
@@ -95,8 +91,7 @@ std::optional<RpcError> check_layout(
 
 } // namespace
 
-std::string_view dtype_name(DType dtype)
-{
+std::string_view dtype_name(DType dtype) {
     switch (dtype) {
     case DType::Float32:
         return "float32";
@@ -108,8 +103,7 @@ std::string_view dtype_name(DType dtype)
     return "?";
 }
 
-std::optional<DType> dtype_from_name(std::string_view name)
-{
+std::optional<DType> dtype_from_name(std::string_view name) {
     if (name == "float32") {
         return DType::Float32;
     }
@@ -122,10 +116,11 @@ std::optional<DType> dtype_from_name(std::string_view name)
     return std::nullopt;
 }
 
-std::size_t dtype_size(DType dtype) { return dtype == DType::UInt8 ? 1 : 4; }
+std::size_t dtype_size(DType dtype) {
+    return dtype == DType::UInt8 ? 1 : 4;
+}
 
-std::optional<std::uint64_t> FrameRef::element_count() const
-{
+std::optional<std::uint64_t> FrameRef::element_count() const {
     std::uint64_t n = 1;
     for (auto extent : shape) {
         if (extent != 0 && n > (std::uint64_t { 1 } << 63) / extent) {
@@ -136,16 +131,18 @@ std::optional<std::uint64_t> FrameRef::element_count() const
     return n;
 }
 
-Frame encode_array(std::span<const float> values) { return encode_4byte(values); }
-Frame encode_array(std::span<const std::uint32_t> values) { return encode_4byte(values); }
-Frame encode_array(std::span<const std::uint8_t> values)
-{
+Frame encode_array(std::span<const float> values) {
+    return encode_4byte(values);
+}
+Frame encode_array(std::span<const std::uint32_t> values) {
+    return encode_4byte(values);
+}
+Frame encode_array(std::span<const std::uint8_t> values) {
     return Frame(reinterpret_cast<const char*>(values.data()), values.size());
 }
 
 Expected<std::vector<float>, RpcError> decode_float32(
-    std::string_view bytes, const FrameRef& ref, std::string_view pointer)
-{
+    std::string_view bytes, const FrameRef& ref, std::string_view pointer) {
     if (auto error = check_layout(bytes, ref, DType::Float32, pointer)) {
         return *error;
     }
@@ -162,8 +159,7 @@ Expected<std::vector<float>, RpcError> decode_float32(
 }
 
 Expected<std::vector<std::uint32_t>, RpcError> decode_uint32(
-    std::string_view bytes, const FrameRef& ref, std::string_view pointer)
-{
+    std::string_view bytes, const FrameRef& ref, std::string_view pointer) {
     if (auto error = check_layout(bytes, ref, DType::UInt32, pointer)) {
         return *error;
     }
@@ -173,16 +169,14 @@ Expected<std::vector<std::uint32_t>, RpcError> decode_uint32(
 }
 
 Expected<std::vector<std::uint8_t>, RpcError> decode_uint8(
-    std::string_view bytes, const FrameRef& ref, std::string_view pointer)
-{
+    std::string_view bytes, const FrameRef& ref, std::string_view pointer) {
     if (auto error = check_layout(bytes, ref, DType::UInt8, pointer)) {
         return *error;
     }
     return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
 }
 
-Routed split_envelope(Message message)
-{
+Routed split_envelope(Message message) {
     Routed routed;
     std::size_t body_begin = message.empty() ? 0 : 1;
     if (message.size() > 1 && message[1].empty()) {
@@ -190,13 +184,13 @@ Routed split_envelope(Message message)
     }
     routed.envelope.assign(std::make_move_iterator(message.begin()),
         std::make_move_iterator(message.begin() + static_cast<std::ptrdiff_t>(body_begin)));
-    routed.body.assign(std::make_move_iterator(message.begin() + static_cast<std::ptrdiff_t>(body_begin)),
+    routed.body.assign(
+        std::make_move_iterator(message.begin() + static_cast<std::ptrdiff_t>(body_begin)),
         std::make_move_iterator(message.end()));
     return routed;
 }
 
-std::vector<std::string_view> frame_views(const Message& message)
-{
+std::vector<std::string_view> frame_views(const Message& message) {
     return std::vector<std::string_view>(message.begin(), message.end());
 }
 

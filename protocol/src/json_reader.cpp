@@ -2,6 +2,7 @@
 #include "json_reader.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -14,8 +15,7 @@ namespace {
 constexpr std::size_t kMaxDepth = 64;
 
 /// Nesting depth of JSON text, skipping strings (only an upper bound on invalid text).
-std::size_t nesting_depth(std::string_view text, std::size_t& offset)
-{
+std::size_t nesting_depth(std::string_view text, std::size_t& offset) {
     std::size_t depth = 0;
     std::size_t deepest = 0;
     bool in_string = false;
@@ -43,13 +43,11 @@ std::size_t nesting_depth(std::string_view text, std::size_t& offset)
 
 } // namespace
 
-void fail(ErrorCode code, std::string pointer, std::string reason)
-{
+void fail(ErrorCode code, std::string pointer, std::string reason) {
     throw Failure { make_error(code, std::move(pointer), std::move(reason)) };
 }
 
-std::string_view json_type_name(const json& value)
-{
+std::string_view json_type_name(const json& value) {
     switch (value.type()) {
     case json::value_t::object:
         return "object";
@@ -70,29 +68,28 @@ std::string_view json_type_name(const json& value)
     }
 }
 
-std::string format_number(double value)
-{
-    char text[32];
-    std::snprintf(text, sizeof text, "%.17g", value);
-    // Prefer the shortest representation that round-trips.
-    for (int precision = 1; precision < 17; ++precision) {
-        char shorter[32];
-        std::snprintf(shorter, sizeof shorter, "%.*g", precision, value);
-        if (std::strtod(shorter, nullptr) == value) {
-            return shorter;
-        }
-    }
-    return text;
+std::string format_number(double value) {
+    char text[64];
+    const auto result = std::to_chars(text, text + sizeof text, value);
+    return std::string(text, result.ptr);
 }
 
-const json* find_member(const json& object, std::string_view key)
-{
+namespace {
+/// nlohmann's what() without its "[json.exception.<kind>.<id>] " prefix.
+std::string strip_exception_prefix(const std::string& what) {
+    const auto close = what.find("] ");
+    return what.rfind("[json.exception.", 0) == 0 && close != std::string::npos
+        ? what.substr(close + 2)
+        : what;
+}
+} // namespace
+
+const json* find_member(const json& object, std::string_view key) {
     const auto it = object.find(key);
     return it == object.end() ? nullptr : &*it;
 }
 
-json parse_frame(std::string_view text)
-{
+json parse_frame(std::string_view text) {
     std::size_t offset = 0;
     if (nesting_depth(text, offset) > kMaxDepth) {
         fail(ErrorCode::ParseError, "",
@@ -102,41 +99,33 @@ json parse_frame(std::string_view text)
     try {
         return json::parse(text.begin(), text.end());
     } catch (const json::parse_error& e) {
-        // e.what() names the byte and, for bad UTF-8, "ill-formed UTF-8 byte".
-        std::string what = e.what();
-        const auto colon = what.find("] ");
-        fail(ErrorCode::ParseError, "",
-            colon == std::string::npos ? what : what.substr(colon + 2));
+        // e.what() names the position and, for bad UTF-8, "ill-formed UTF-8 byte".
+        fail(ErrorCode::ParseError, "", strip_exception_prefix(e.what()));
     } catch (const json::exception& e) {
-        fail(ErrorCode::ParseError, "", e.what());
+        fail(ErrorCode::ParseError, "", strip_exception_prefix(e.what()));
     }
 }
 
-std::string dump(const json& value)
-{
+std::string dump(const json& value) {
     return value.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 ObjectReader::ObjectReader(const json& value, std::string pointer, ErrorCode code)
     : m_value(value)
     , m_pointer(std::move(pointer))
-    , m_code(code)
-{
+    , m_code(code) {
     if (!value.is_object()) {
-        fail(code, m_pointer,
-            "must be an object, got " + std::string(json_type_name(value)));
+        fail(code, m_pointer, "must be an object, got " + std::string(json_type_name(value)));
     }
 }
 
-const json* ObjectReader::optional(std::string_view key)
-{
+const json* ObjectReader::optional(std::string_view key) {
     m_known.push_back(key);
     const auto it = m_value.find(key);
     return it == m_value.end() ? nullptr : &*it;
 }
 
-const json& ObjectReader::required(std::string_view key)
-{
+const json& ObjectReader::required(std::string_view key) {
     const json* member = optional(key);
     if (member == nullptr) {
         fail(m_code, at(key), "missing required member \"" + std::string(key) + "\"");
@@ -144,8 +133,7 @@ const json& ObjectReader::required(std::string_view key)
     return *member;
 }
 
-void ObjectReader::finish() const
-{
+void ObjectReader::finish() const {
     for (const auto& [key, member] : m_value.items()) {
         if (std::find(m_known.begin(), m_known.end(), key) == m_known.end()) {
             fail(m_code, at(key), "unknown member \"" + key + "\"");
@@ -153,8 +141,7 @@ void ObjectReader::finish() const
     }
 }
 
-double read_number(const json& value, const std::string& pointer, Range range, ErrorCode code)
-{
+double read_number(const json& value, const std::string& pointer, Range range, ErrorCode code) {
     if (!value.is_number()) {
         fail(code, pointer, "must be a number, got " + std::string(json_type_name(value)));
     }
@@ -180,8 +167,7 @@ double read_number(const json& value, const std::string& pointer, Range range, E
 
 namespace {
 /// The integral value of a number as long double, or fails.
-long double integral_value(const json& value, const std::string& pointer, ErrorCode code)
-{
+long double integral_value(const json& value, const std::string& pointer, ErrorCode code) {
     if (value.is_number_unsigned()) {
         return static_cast<long double>(value.get<std::uint64_t>());
     }
@@ -200,8 +186,7 @@ long double integral_value(const json& value, const std::string& pointer, ErrorC
 } // namespace
 
 std::uint64_t read_uint(const json& value, const std::string& pointer, std::uint64_t lo,
-    std::uint64_t hi, ErrorCode code)
-{
+    std::uint64_t hi, ErrorCode code) {
     if (value.is_number_unsigned()) {
         const auto v = value.get<std::uint64_t>();
         if (v < lo || v > hi) {
@@ -221,8 +206,7 @@ std::uint64_t read_uint(const json& value, const std::string& pointer, std::uint
 }
 
 std::int64_t read_int(const json& value, const std::string& pointer, std::int64_t lo,
-    std::int64_t hi, ErrorCode code)
-{
+    std::int64_t hi, ErrorCode code) {
     const long double v = integral_value(value, pointer, code);
     if (v < static_cast<long double>(lo) || v > static_cast<long double>(hi)) {
         fail(code, pointer,
@@ -235,8 +219,7 @@ std::int64_t read_int(const json& value, const std::string& pointer, std::int64_
     return static_cast<std::int64_t>(v);
 }
 
-bool read_bool(const json& value, const std::string& pointer, ErrorCode code)
-{
+bool read_bool(const json& value, const std::string& pointer, ErrorCode code) {
     if (!value.is_boolean()) {
         fail(code, pointer, "must be a boolean, got " + std::string(json_type_name(value)));
     }
@@ -244,8 +227,7 @@ bool read_bool(const json& value, const std::string& pointer, ErrorCode code)
 }
 
 std::string read_string(
-    const json& value, const std::string& pointer, std::size_t max_bytes, ErrorCode code)
-{
+    const json& value, const std::string& pointer, std::size_t max_bytes, ErrorCode code) {
     if (!value.is_string()) {
         fail(code, pointer, "must be a string, got " + std::string(json_type_name(value)));
     }
@@ -256,25 +238,24 @@ std::string read_string(
     return text;
 }
 
-Vector3 read_vector3(const json& value, const std::string& pointer, double max_abs, ErrorCode code)
-{
+Vector3 read_vector3(
+    const json& value, const std::string& pointer, double max_abs, ErrorCode code) {
     if (!value.is_array()) {
         fail(code, pointer,
             "must be an array of 3 numbers, got " + std::string(json_type_name(value)));
     }
     if (value.size() != 3) {
-        fail(code, pointer,
-            "must have 3 elements, got " + std::to_string(value.size()));
+        fail(code, pointer, "must have 3 elements, got " + std::to_string(value.size()));
     }
     Vector3 out {};
     for (std::size_t i = 0; i < 3; ++i) {
-        out[i] = read_number(value[i], pointer_append(pointer, i), Range { -max_abs, max_abs }, code);
+        out[i]
+            = read_number(value[i], pointer_append(pointer, i), Range { -max_abs, max_abs }, code);
     }
     return out;
 }
 
-RequestId read_request_id(const json& value, const std::string& pointer, ErrorCode code)
-{
+RequestId read_request_id(const json& value, const std::string& pointer, ErrorCode code) {
     if (value.is_null()) {
         return nullptr;
     }
@@ -287,7 +268,8 @@ RequestId read_request_id(const json& value, const std::string& pointer, ErrorCo
             fail(code, pointer, "id out of range [-2^63, 2^63)");
         }
         if (value.is_number_float()) {
-            fail(code, pointer, "id must be an integer, a string or null (fractional ids are not accepted)");
+            fail(code, pointer,
+                "id must be an integer, a string or null (fractional ids are not accepted)");
         }
         return value.get<std::int64_t>();
     }
@@ -295,8 +277,7 @@ RequestId read_request_id(const json& value, const std::string& pointer, ErrorCo
         "id must be an integer, a string or null, got " + std::string(json_type_name(value)));
 }
 
-json request_id_to_json(const RequestId& id)
-{
+json request_id_to_json(const RequestId& id) {
     if (const auto* number = std::get_if<std::int64_t>(&id)) {
         return *number;
     }
@@ -308,14 +289,13 @@ json request_id_to_json(const RequestId& id)
 
 FrameSet::FrameSet(std::span<const std::string_view> frames)
     : m_frames(frames)
-    , m_used(frames.size(), false)
-{
+    , m_used(frames.size(), false) { }
+
+bool FrameSet::is_ref(const json& value) {
+    return value.is_object() && value.contains("$frame");
 }
 
-bool FrameSet::is_ref(const json& value) { return value.is_object() && value.contains("$frame"); }
-
-FrameRef FrameSet::read_ref(const json& value, const std::string& pointer, ErrorCode code)
-{
+FrameRef FrameSet::read_ref(const json& value, const std::string& pointer, ErrorCode code) {
     ObjectReader reader(value, pointer, code);
     FrameRef ref;
     const auto frame_pointer = reader.at("$frame");
@@ -345,14 +325,12 @@ FrameRef FrameSet::read_ref(const json& value, const std::string& pointer, Error
     return ref;
 }
 
-std::string_view FrameSet::bytes(const FrameRef& ref)
-{
+std::string_view FrameSet::bytes(const FrameRef& ref) {
     m_used.at(ref.frame - 1) = true;
     return m_frames[ref.frame - 1];
 }
 
-void FrameSet::check_all_used() const
-{
+void FrameSet::check_all_used() const {
     for (std::size_t k = 0; k < m_used.size(); ++k) {
         if (!m_used[k]) {
             fail(ErrorCode::InvalidRequest, "",
@@ -361,15 +339,17 @@ void FrameSet::check_all_used() const
     }
 }
 
-json frame_ref_json(std::uint32_t frame, DType dtype, std::vector<std::uint64_t> shape)
-{
-    return json { { "$frame", frame }, { "dtype", std::string(dtype_name(dtype)) }, { "shape", shape } };
+json frame_ref_json(std::uint32_t frame, DType dtype, std::vector<std::uint64_t> shape) {
+    return json { { "$frame", frame }, { "dtype", std::string(dtype_name(dtype)) },
+        { "shape", shape } };
 }
 
 } // namespace polycut::protocol::detail
 
 namespace polycut::protocol {
 
-std::string to_json_text(const RequestId& id) { return detail::dump(detail::request_id_to_json(id)); }
+std::string to_json_text(const RequestId& id) {
+    return detail::dump(detail::request_id_to_json(id));
+}
 
 } // namespace polycut::protocol

@@ -8,10 +8,9 @@
 #include "polycut/protocol/params.hpp"
 #include "polycut/protocol/request_id.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <string_view>
@@ -19,7 +18,9 @@
 
 namespace polycut::protocol::detail {
 
-using json = nlohmann::json;
+/// Insertion-ordered objects: replies read in the documented member order and inline scenes
+/// keep their author's order.
+using json = nlohmann::ordered_json;
 
 /// Internal exception carrying the error to answer.
 struct Failure {
@@ -82,8 +83,8 @@ std::uint64_t read_uint(const json& value, const std::string& pointer, std::uint
     std::uint64_t hi, ErrorCode code = ErrorCode::InvalidParams);
 std::int64_t read_int(const json& value, const std::string& pointer, std::int64_t lo,
     std::int64_t hi, ErrorCode code = ErrorCode::InvalidParams);
-bool read_bool(const json& value, const std::string& pointer,
-    ErrorCode code = ErrorCode::InvalidParams);
+bool read_bool(
+    const json& value, const std::string& pointer, ErrorCode code = ErrorCode::InvalidParams);
 /// String of at most `max_bytes` bytes.
 std::string read_string(const json& value, const std::string& pointer, std::size_t max_bytes,
     ErrorCode code = ErrorCode::InvalidParams);

@@ -9,10 +9,11 @@ constexpr std::array<std::string_view, kMethodCount> kNames = { "hello", "load_s
     "release", "cut", "scalpel", "end_stroke", "get_surface", "get_stats", "shutdown" };
 } // namespace
 
-std::string_view method_name(Method method) { return kNames.at(static_cast<std::size_t>(method)); }
+std::string_view method_name(Method method) {
+    return kNames.at(static_cast<std::size_t>(method));
+}
 
-std::optional<Method> method_from_name(std::string_view name)
-{
+std::optional<Method> method_from_name(std::string_view name) {
     for (std::size_t i = 0; i < kNames.size(); ++i) {
         if (kNames[i] == name) {
             return static_cast<Method>(i);

@@ -9,8 +9,7 @@ namespace {
 constexpr ErrorCode kBad = ErrorCode::InvalidParams;
 const std::string kParams = "/params";
 
-bool valid_scene_name(const std::string& name)
-{
+bool valid_scene_name(const std::string& name) {
     if (name.empty() || name.size() > 64) {
         return false;
     }
@@ -24,24 +23,19 @@ bool valid_scene_name(const std::string& name)
     return true;
 }
 
-std::uint64_t read_object_id(ObjectReader& r, std::string_view key)
-{
+std::uint64_t read_object_id(ObjectReader& r, std::string_view key) {
     return read_uint(r.required(key), r.at(key), 1, kMaxSafeInteger);
 }
 
-std::uint64_t read_stroke(ObjectReader& r)
-{
+std::uint64_t read_stroke(ObjectReader& r) {
     return read_uint(r.required("stroke"), r.at("stroke"), 0, kMaxSafeInteger);
 }
 
-Vector3 read_point(ObjectReader& r, std::string_view key)
-{
+Vector3 read_point(ObjectReader& r, std::string_view key) {
     return read_vector3(r.required(key), r.at(key), kMaxCoordinate);
 }
 
-std::vector<Triangle3> read_triangles(
-    ObjectReader& r, FrameSet& frames, const Limits& limits)
-{
+std::vector<Triangle3> read_triangles(ObjectReader& r, FrameSet& frames, const Limits& limits) {
     const std::string pointer = r.at("triangles");
     const json& value = r.required("triangles");
     std::vector<Triangle3> triangles;
@@ -72,8 +66,7 @@ std::vector<Triangle3> read_triangles(
                 for (std::size_t k = 0; k < 3; ++k) {
                     const double x = flat[9 * t + 3 * c + k];
                     if (!(std::abs(x) <= kMaxCoordinate)) {
-                        fail(kBad,
-                            pointer_append(pointer_append(pointer_append(pointer, t), c), k),
+                        fail(kBad, pointer_append(pointer_append(pointer_append(pointer, t), c), k),
                             "must be >= -" + format_number(kMaxCoordinate) + " and <= "
                                 + format_number(kMaxCoordinate) + ", got " + format_number(x));
                     }
@@ -97,7 +90,8 @@ std::vector<Triangle3> read_triangles(
                 fail(kBad, tri_pointer, "must be an array of 3 points");
             }
             for (std::size_t c = 0; c < 3; ++c) {
-                triangles[t][c] = read_vector3(tri[c], pointer_append(tri_pointer, c), kMaxCoordinate);
+                triangles[t][c]
+                    = read_vector3(tri[c], pointer_append(tri_pointer, c), kMaxCoordinate);
             }
         }
     }
@@ -107,8 +101,7 @@ std::vector<Triangle3> read_triangles(
     return triangles;
 }
 
-Params decode_object(Method method, ObjectReader& r, FrameSet& frames, const Limits& limits)
-{
+Params decode_object(Method method, ObjectReader& r, FrameSet& frames, const Limits& limits) {
     switch (method) {
     case Method::Hello: {
         HelloParams p;
@@ -157,18 +150,20 @@ Params decode_object(Method method, ObjectReader& r, FrameSet& frames, const Lim
     case Method::Step: {
         StepParams p;
         if (const json* v = r.optional("ticks")) {
-            p.ticks = static_cast<std::uint32_t>(read_uint(*v, r.at("ticks"), 1, limits.max_step_ticks));
+            p.ticks = static_cast<std::uint32_t>(
+                read_uint(*v, r.at("ticks"), 1, limits.max_step_ticks));
         }
         return p;
     }
     case Method::SetRate:
-        return SetRateParams { read_number(r.required("hz"), r.at("hz"),
-            Range { 0.0, limits.max_rate_hz, true, false }) };
+        return SetRateParams { read_number(
+            r.required("hz"), r.at("hz"), Range { 0.0, limits.max_rate_hz, true, false }) };
     case Method::ApplyForce: {
         ApplyForceParams p;
         p.point = read_point(r, "point");
         p.force = read_vector3(r.required("force"), r.at("force"), kMaxForce);
-        p.radius = read_number(r.required("radius"), r.at("radius"), Range { 0.0, kMaxRadius, true });
+        p.radius
+            = read_number(r.required("radius"), r.at("radius"), Range { 0.0, kMaxRadius, true });
         if (const json* v = r.optional("duration")) {
             p.duration = read_number(*v, r.at("duration"), Range { 0.0, kMaxDuration, true });
         }
@@ -219,12 +214,13 @@ Params decode_object(Method method, ObjectReader& r, FrameSet& frames, const Lim
     fail(ErrorCode::MethodNotFound, "/method", "unknown method");
 }
 
-json vector_json(const Vector3& v) { return json::array({ v[0], v[1], v[2] }); }
+json vector_json(const Vector3& v) {
+    return json::array({ v[0], v[1], v[2] });
+}
 
 } // namespace
 
-Params decode_params(Method method, const json* params, FrameSet& frames, const Limits& limits)
-{
+Params decode_params(Method method, const json* params, FrameSet& frames, const Limits& limits) {
     static const json kEmpty = json::object();
     ObjectReader reader(params == nullptr ? kEmpty : *params, kParams, kBad);
     Params out = decode_object(method, reader, frames, limits);
@@ -232,8 +228,7 @@ Params decode_params(Method method, const json* params, FrameSet& frames, const 
     return out;
 }
 
-json encode_params(const Params& params, const EncodeOptions& options, Message& frames)
-{
+json encode_params(const Params& params, const EncodeOptions& options, Message& frames) {
     json out = json::object();
     std::visit(
         [&](const auto& p) {
@@ -263,8 +258,8 @@ json encode_params(const Params& params, const EncodeOptions& options, Message& 
                 if (p.duration) {
                     out["duration"] = *p.duration;
                 }
-            } else if constexpr (std::is_same_v<T, RemoveForceParams>
-                || std::is_same_v<T, ReleaseParams>) {
+            } else if constexpr (std::is_same_v<T,
+                                     RemoveForceParams> || std::is_same_v<T, ReleaseParams>) {
                 out["id"] = p.id;
             } else if constexpr (std::is_same_v<T, GrabParams>) {
                 out["point"] = vector_json(p.point);

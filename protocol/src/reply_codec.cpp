@@ -9,16 +9,14 @@ namespace {
 
 constexpr ErrorCode kCode = ErrorCode::InvalidRequest;
 
-json envelope(const RequestId& id)
-{
+json envelope(const RequestId& id) {
     json root = json::object();
     root["jsonrpc"] = "2.0";
     root["id"] = detail::request_id_to_json(id);
     return root;
 }
 
-json parse_reply_object(std::string_view frame)
-{
+json parse_reply_object(std::string_view frame) {
     json root = detail::parse_frame(frame);
     if (!root.is_object()) {
         detail::fail(kCode, "", "a reply must be a JSON object");
@@ -33,8 +31,7 @@ json parse_reply_object(std::string_view frame)
     return root;
 }
 
-RpcError read_error(const json& value)
-{
+RpcError read_error(const json& value) {
     detail::ObjectReader r(value, "/error", kCode);
     RpcError error;
     error.code = static_cast<ErrorCode>(detail::read_int(r.required("code"), r.at("code"),
@@ -51,8 +48,7 @@ RpcError read_error(const json& value)
     return error;
 }
 
-Reply decode(std::span<const std::string_view> frames, Method method)
-{
+Reply decode(std::span<const std::string_view> frames, Method method) {
     if (frames.empty()) {
         detail::fail(kCode, "", "empty message");
     }
@@ -76,8 +72,7 @@ Reply decode(std::span<const std::string_view> frames, Method method)
 
 } // namespace
 
-Message encode_result(const RequestId& id, const Result& result)
-{
+Message encode_result(const RequestId& id, const Result& result) {
     json root = envelope(id);
     Message binary;
     root["result"] = detail::encode_result_json(result, binary);
@@ -90,8 +85,7 @@ Message encode_result(const RequestId& id, const Result& result)
     return message;
 }
 
-Message encode_error(const RequestId& id, const RpcError& error)
-{
+Message encode_error(const RequestId& id, const RpcError& error) {
     json root = envelope(id);
     root["error"] = json { { "code", static_cast<int>(error.code) },
         { "message",
@@ -100,8 +94,7 @@ Message encode_error(const RequestId& id, const RpcError& error)
     return Message { detail::dump(root) };
 }
 
-Expected<Reply, RpcError> decode_reply(std::span<const std::string_view> frames, Method method)
-{
+Expected<Reply, RpcError> decode_reply(std::span<const std::string_view> frames, Method method) {
     try {
         return decode(frames, method);
     } catch (const detail::Failure& failure) {
@@ -111,14 +104,12 @@ Expected<Reply, RpcError> decode_reply(std::span<const std::string_view> frames,
     }
 }
 
-Expected<Reply, RpcError> decode_reply(const Message& message, Method method)
-{
+Expected<Reply, RpcError> decode_reply(const Message& message, Method method) {
     const auto views = frame_views(message);
     return decode_reply(std::span<const std::string_view>(views), method);
 }
 
-Expected<RequestId, RpcError> peek_reply_id(std::string_view json_frame)
-{
+Expected<RequestId, RpcError> peek_reply_id(std::string_view json_frame) {
     try {
         const json root = parse_reply_object(json_frame);
         return detail::read_request_id(root.at("id"), "/id", kCode);

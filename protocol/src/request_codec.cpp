@@ -10,15 +10,15 @@ namespace {
 using detail::fail;
 using detail::json;
 
-constexpr std::array<std::string_view, 4> kEnvelopeMembers = { "jsonrpc", "id", "method", "params" };
+constexpr std::array<std::string_view, 4> kEnvelopeMembers
+    = { "jsonrpc", "id", "method", "params" };
 
 struct DecodeState {
     RequestId id = nullptr;
     bool notification = false; ///< known to be a notification (envelope read successfully)
 };
 
-void check_frame_limits(std::span<const std::string_view> frames, const Limits& limits)
-{
+void check_frame_limits(std::span<const std::string_view> frames, const Limits& limits) {
     if (frames.size() > limits.max_frames_per_message) {
         fail(ErrorCode::PayloadTooLarge, "",
             "message has " + std::to_string(frames.size()) + " frames; the limit is "
@@ -33,8 +33,7 @@ void check_frame_limits(std::span<const std::string_view> frames, const Limits& 
     }
 }
 
-Request decode(std::span<const std::string_view> frames, const Limits& limits, DecodeState& state)
-{
+Request decode(std::span<const std::string_view> frames, const Limits& limits, DecodeState& state) {
     if (frames.empty()) {
         fail(ErrorCode::InvalidRequest, "", "empty message");
     }
@@ -93,8 +92,7 @@ Request decode(std::span<const std::string_view> frames, const Limits& limits, D
     if (!state.notification) {
         request.id = state.id;
     }
-    request.params = detail::decode_params(
-        *method, params_value, binary, limits);
+    request.params = detail::decode_params(*method, params_value, binary, limits);
     binary.check_all_used();
     return request;
 }
@@ -102,8 +100,7 @@ Request decode(std::span<const std::string_view> frames, const Limits& limits, D
 } // namespace
 
 Expected<Request, RequestError> decode_request(
-    std::span<const std::string_view> frames, const Limits& limits)
-{
+    std::span<const std::string_view> frames, const Limits& limits) {
     DecodeState state;
     try {
         return decode(frames, limits, state);
@@ -117,14 +114,12 @@ Expected<Request, RequestError> decode_request(
     }
 }
 
-Expected<Request, RequestError> decode_request(const Message& body, const Limits& limits)
-{
+Expected<Request, RequestError> decode_request(const Message& body, const Limits& limits) {
     const auto views = frame_views(body);
     return decode_request(std::span<const std::string_view>(views), limits);
 }
 
-Message encode_request(const Request& request, const EncodeOptions& options)
-{
+Message encode_request(const Request& request, const EncodeOptions& options) {
     Message binary;
     json root = json::object();
     root["jsonrpc"] = "2.0";

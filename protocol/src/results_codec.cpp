@@ -4,8 +4,7 @@
 
 namespace polycut::protocol {
 
-std::size_t result_index(Method method)
-{
+std::size_t result_index(Method method) {
     switch (method) {
     case Method::Hello:
         return 0;
@@ -50,19 +49,23 @@ constexpr std::int64_t kI64 = std::numeric_limits<std::int64_t>::max();
 /// Typed member readers for result objects.
 struct Members {
     ObjectReader r;
-    std::uint64_t u64(std::string_view key) { return read_uint(r.required(key), r.at(key), 0, kU64, kCode); }
-    std::uint32_t u32(std::string_view key)
-    {
+    std::uint64_t u64(std::string_view key) {
+        return read_uint(r.required(key), r.at(key), 0, kU64, kCode);
+    }
+    std::uint32_t u32(std::string_view key) {
         return static_cast<std::uint32_t>(read_uint(r.required(key), r.at(key), 0, kU32, kCode));
     }
     std::int64_t tick() { return read_int(r.required("tick"), r.at("tick"), 0, kI64, kCode); }
-    double number(std::string_view key) { return read_number(r.required(key), r.at(key), Range {}, kCode); }
+    double number(std::string_view key) {
+        return read_number(r.required(key), r.at(key), Range {}, kCode);
+    }
     bool boolean(std::string_view key) { return read_bool(r.required(key), r.at(key), kCode); }
-    std::string text(std::string_view key) { return read_string(r.required(key), r.at(key), 4096, kCode); }
+    std::string text(std::string_view key) {
+        return read_string(r.required(key), r.at(key), 4096, kCode);
+    }
 };
 
-json limits_json(const Limits& l)
-{
+json limits_json(const Limits& l) {
     return json { { "max_frame_bytes", l.max_frame_bytes },
         { "max_frames_per_message", l.max_frames_per_message },
         { "max_triangles_per_cut", l.max_triangles_per_cut },
@@ -70,8 +73,7 @@ json limits_json(const Limits& l)
         { "max_rate_hz", l.max_rate_hz } };
 }
 
-Limits read_limits(const json& value, const std::string& pointer)
-{
+Limits read_limits(const json& value, const std::string& pointer) {
     Members m { ObjectReader(value, pointer, kCode) };
     Limits l;
     l.max_frame_bytes = m.u64("max_frame_bytes");
@@ -85,8 +87,7 @@ Limits read_limits(const json& value, const std::string& pointer)
 
 } // namespace
 
-Result decode_result(Method method, const json& value, FrameSet& frames)
-{
+Result decode_result(Method method, const json& value, FrameSet& frames) {
     const std::string pointer = "/result";
     if (method == Method::GetSurface) {
         SurfaceFrame snapshot = read_surface(value, pointer, frames, kCode);
@@ -161,8 +162,7 @@ Result decode_result(Method method, const json& value, FrameSet& frames)
     }
 }
 
-json encode_result_json(const Result& result, Message& frames)
-{
+json encode_result_json(const Result& result, Message& frames) {
     json out = json::object();
     std::visit(
         [&](const auto& r) {
@@ -181,9 +181,8 @@ json encode_result_json(const Result& result, Message& frames)
                 }
             } else if constexpr (std::is_same_v<T, SceneResult>) {
                 out = json { { "tick", r.tick }, { "name", r.name },
-                    { "topology_version", r.topology_version },
-                    { "vertex_count", r.vertex_count }, { "triangle_count", r.triangle_count },
-                    { "cell_count", r.cell_count } };
+                    { "topology_version", r.topology_version }, { "vertex_count", r.vertex_count },
+                    { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count } };
             } else if constexpr (std::is_same_v<T, RunState>) {
                 out = json { { "tick", r.tick }, { "running", r.running },
                     { "rate_hz", r.rate_hz } };
@@ -206,9 +205,9 @@ json encode_result_json(const Result& result, Message& frames)
             } else if constexpr (std::is_same_v<T, Stats>) {
                 out = json { { "tick", r.tick }, { "sim_time", r.sim_time },
                     { "running", r.running }, { "rate_hz", r.rate_hz }, { "seq", r.seq },
-                    { "topology_version", r.topology_version },
-                    { "vertex_count", r.vertex_count }, { "triangle_count", r.triangle_count },
-                    { "cell_count", r.cell_count }, { "ticks_over_budget", r.ticks_over_budget },
+                    { "topology_version", r.topology_version }, { "vertex_count", r.vertex_count },
+                    { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count },
+                    { "ticks_over_budget", r.ticks_over_budget },
                     { "worst_tick_ms", r.worst_tick_ms }, { "step_ms_p50", r.step_ms_p50 },
                     { "step_ms_p99", r.step_ms_p99 }, { "requests", r.requests },
                     { "errors", r.errors }, { "clients", r.clients }, { "forces", r.forces },

@@ -10,9 +10,7 @@ namespace detail {
 
 namespace {
 
-template <class T>
-T unwrap(Expected<T, RpcError> value, ErrorCode code)
-{
+template <class T> T unwrap(Expected<T, RpcError> value, ErrorCode code) {
     if (!value) {
         RpcError error = value.error();
         error.code = code;
@@ -24,8 +22,7 @@ T unwrap(Expected<T, RpcError> value, ErrorCode code)
 
 } // namespace
 
-void write_surface_header(const SurfaceHeader& h, json& out)
-{
+void write_surface_header(const SurfaceHeader& h, json& out) {
     out["seq"] = h.seq;
     out["tick"] = h.tick;
     out["sim_time"] = h.sim_time;
@@ -49,15 +46,14 @@ void write_surface_header(const SurfaceHeader& h, json& out)
 
 void write_surface_arrays(const SurfaceHeader& header, std::span<const float> positions,
     std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> tags, json& out,
-    Message& frames)
-{
+    Message& frames) {
     frames.push_back(encode_array(positions));
-    out["positions"] = frame_ref_json(static_cast<std::uint32_t>(frames.size()), DType::Float32,
-        { positions.size() / 3, 3 });
+    out["positions"] = frame_ref_json(
+        static_cast<std::uint32_t>(frames.size()), DType::Float32, { positions.size() / 3, 3 });
     if (header.has_topology) {
         frames.push_back(encode_array(triangles));
-        out["triangles"] = frame_ref_json(static_cast<std::uint32_t>(frames.size()),
-            DType::UInt32, { triangles.size() / 3, 3 });
+        out["triangles"] = frame_ref_json(
+            static_cast<std::uint32_t>(frames.size()), DType::UInt32, { triangles.size() / 3, 3 });
         frames.push_back(encode_array(tags));
         out["tags"] = frame_ref_json(
             static_cast<std::uint32_t>(frames.size()), DType::UInt8, { tags.size() });
@@ -65,17 +61,18 @@ void write_surface_arrays(const SurfaceHeader& header, std::span<const float> po
 }
 
 SurfaceFrame read_surface(
-    const json& value, const std::string& pointer, FrameSet& frames, ErrorCode code)
-{
+    const json& value, const std::string& pointer, FrameSet& frames, ErrorCode code) {
     ObjectReader r(value, pointer, code);
     SurfaceFrame out;
     SurfaceHeader& h = out.header;
     constexpr std::uint64_t kU64 = std::numeric_limits<std::uint64_t>::max();
     constexpr std::uint32_t kU32 = std::numeric_limits<std::uint32_t>::max();
     h.seq = read_uint(r.required("seq"), r.at("seq"), 0, kU64, code);
-    h.tick = read_int(r.required("tick"), r.at("tick"), 0, std::numeric_limits<std::int64_t>::max(), code);
+    h.tick = read_int(
+        r.required("tick"), r.at("tick"), 0, std::numeric_limits<std::int64_t>::max(), code);
     h.sim_time = read_number(r.required("sim_time"), r.at("sim_time"), Range {}, code);
-    h.topology_version = read_uint(r.required("topology_version"), r.at("topology_version"), 0, kU64, code);
+    h.topology_version
+        = read_uint(r.required("topology_version"), r.at("topology_version"), 0, kU64, code);
     h.vertex_count = static_cast<std::uint32_t>(
         read_uint(r.required("vertex_count"), r.at("vertex_count"), 0, kU32, code));
     h.triangle_count = static_cast<std::uint32_t>(
@@ -84,11 +81,12 @@ SurfaceFrame read_surface(
     {
         ObjectReader s(r.required("step"), r.at("step"), code);
         h.step.step_ms = read_number(s.required("step_ms"), s.at("step_ms"), Range { 0.0 }, code);
-        h.step.solver_iterations = static_cast<std::uint32_t>(read_uint(
-            s.required("solver_iterations"), s.at("solver_iterations"), 0, kU32, code));
+        h.step.solver_iterations = static_cast<std::uint32_t>(
+            read_uint(s.required("solver_iterations"), s.at("solver_iterations"), 0, kU32, code));
         const json& residual = s.required("residual");
-        h.step.residual = residual.is_null() ? std::nan("")
-                                             : read_number(residual, s.at("residual"), Range {}, code);
+        h.step.residual = residual.is_null()
+            ? std::nan("")
+            : read_number(residual, s.at("residual"), Range {}, code);
         const json& warnings = s.required("warnings");
         if (!warnings.is_array()) {
             fail(code, s.at("warnings"), "must be an array of strings");
@@ -127,8 +125,7 @@ SurfaceFrame read_surface(
             = unwrap(decode_uint32(frames.bytes(tri_ref), tri_ref, r.at("triangles")), code);
         for (std::size_t i = 0; i < out.triangles.size(); ++i) {
             if (out.triangles[i] >= h.vertex_count) {
-                fail(code,
-                    pointer_append(pointer_append(r.at("triangles"), i / 3), i % 3),
+                fail(code, pointer_append(pointer_append(r.at("triangles"), i / 3), i % 3),
                     "vertex index " + std::to_string(out.triangles[i]) + " >= vertex_count "
                         + std::to_string(h.vertex_count));
             }
@@ -157,8 +154,7 @@ SurfaceFrame read_surface(
 using detail::json;
 
 Message encode_surface(const SurfaceHeader& header, std::span<const float> positions,
-    std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> tags)
-{
+    std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> tags) {
     SurfaceHeader h = header;
     h.vertex_count = static_cast<std::uint32_t>(positions.size() / 3);
     if (h.has_topology) {
@@ -178,8 +174,7 @@ Message encode_surface(const SurfaceHeader& header, std::span<const float> posit
     return message;
 }
 
-Message encode_event(const Event& event)
-{
+Message encode_event(const Event& event) {
     json root = json::object();
     root["kind"] = event.kind;
     root["tick"] = event.tick;
@@ -191,8 +186,7 @@ Message encode_event(const Event& event)
 
 namespace {
 
-StreamMessage decode_stream_impl(std::span<const std::string_view> frames)
-{
+StreamMessage decode_stream_impl(std::span<const std::string_view> frames) {
     constexpr ErrorCode kCode = ErrorCode::InvalidRequest;
     if (frames.size() < 2) {
         detail::fail(kCode, "", "a stream message has a topic frame and a JSON frame");
@@ -208,8 +202,8 @@ StreamMessage decode_stream_impl(std::span<const std::string_view> frames)
         detail::ObjectReader r(root, "", kCode);
         Event event;
         event.kind = detail::read_string(r.required("kind"), r.at("kind"), 64, kCode);
-        event.tick = detail::read_int(r.required("tick"), r.at("tick"), 0,
-            std::numeric_limits<std::int64_t>::max(), kCode);
+        event.tick = detail::read_int(
+            r.required("tick"), r.at("tick"), 0, std::numeric_limits<std::int64_t>::max(), kCode);
         if (const json* seq = r.optional("seq")) {
             event.seq = detail::read_uint(
                 *seq, r.at("seq"), 0, std::numeric_limits<std::uint64_t>::max(), kCode);
@@ -227,8 +221,7 @@ StreamMessage decode_stream_impl(std::span<const std::string_view> frames)
 
 } // namespace
 
-Expected<StreamMessage, RpcError> decode_stream(std::span<const std::string_view> frames)
-{
+Expected<StreamMessage, RpcError> decode_stream(std::span<const std::string_view> frames) {
     try {
         return decode_stream_impl(frames);
     } catch (const detail::Failure& failure) {
@@ -238,8 +231,7 @@ Expected<StreamMessage, RpcError> decode_stream(std::span<const std::string_view
     }
 }
 
-Expected<StreamMessage, RpcError> decode_stream(const Message& message)
-{
+Expected<StreamMessage, RpcError> decode_stream(const Message& message) {
     const auto views = frame_views(message);
     return decode_stream(std::span<const std::string_view>(views));
 }

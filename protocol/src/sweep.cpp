@@ -7,14 +7,16 @@
 namespace polycut::protocol {
 
 namespace {
-Vector3 sub(const Vector3& a, const Vector3& b) { return { a[0] - b[0], a[1] - b[1], a[2] - b[2] }; }
-double dot(const Vector3& a, const Vector3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vector3 cross(const Vector3& a, const Vector3& b)
-{
+Vector3 sub(const Vector3& a, const Vector3& b) {
+    return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+}
+double dot(const Vector3& a, const Vector3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+Vector3 cross(const Vector3& a, const Vector3& b) {
     return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
 }
-bool finite(const Triangle3& t)
-{
+bool finite(const Triangle3& t) {
     for (const auto& p : t) {
         for (double c : p) {
             if (!std::isfinite(c)) {
@@ -26,8 +28,7 @@ bool finite(const Triangle3& t)
 }
 } // namespace
 
-double triangle_quality(const Triangle3& t)
-{
+double triangle_quality(const Triangle3& t) {
     if (!finite(t)) {
         return 0.0;
     }
@@ -43,8 +44,7 @@ double triangle_quality(const Triangle3& t)
     return 4.0 * std::sqrt(3.0) * area / sum_sq;
 }
 
-std::optional<std::string> triangle_defect(const Triangle3& t, double min_quality)
-{
+std::optional<std::string> triangle_defect(const Triangle3& t, double min_quality) {
     if (!finite(t)) {
         return "non-finite coordinate";
     }
@@ -63,8 +63,7 @@ std::optional<std::string> triangle_defect(const Triangle3& t, double min_qualit
 }
 
 std::optional<RpcError> check_sweep_triangles(
-    std::span<const Triangle3> triangles, std::string_view pointer, double min_quality)
-{
+    std::span<const Triangle3> triangles, std::string_view pointer, double min_quality) {
     for (std::size_t k = 0; k < triangles.size(); ++k) {
         if (auto defect = triangle_defect(triangles[k], min_quality)) {
             return make_error(ErrorCode::CutRejected, pointer_append(pointer, k), *defect);

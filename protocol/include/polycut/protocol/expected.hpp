@@ -9,19 +9,14 @@ namespace polycut::protocol {
 
 /// Either a `T` (success) or an `E` (failure). Accessing the wrong side is a programming error
 /// (std::bad_variant_access), so check `ok()` first.
-template <class T, class E>
-class Expected {
+template <class T, class E> class Expected {
 public:
     /// Success.
     Expected(T value)
-        : m_data(std::in_place_index<0>, std::move(value))
-    {
-    }
+        : m_data(std::in_place_index<0>, std::move(value)) { }
     /// Failure.
     Expected(E error)
-        : m_data(std::in_place_index<1>, std::move(error))
-    {
-    }
+        : m_data(std::in_place_index<1>, std::move(error)) { }
 
     /// True when a value is held.
     bool ok() const { return m_data.index() == 0; }

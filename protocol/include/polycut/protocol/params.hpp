@@ -78,7 +78,8 @@ struct RemoveForceParams {
 /// `radius`), initially anchored at `point`.
 struct GrabParams {
     Vector3 point {}; ///< world-space point [m]
-    std::optional<double> stiffness; ///< in (0, kMaxStiffness] [N/m]; absent = kDefaultGrabStiffness
+    std::optional<double>
+        stiffness; ///< in (0, kMaxStiffness] [N/m]; absent = kDefaultGrabStiffness
     std::optional<double> radius; ///< in (0, kMaxRadius] [m]; absent = nearest material point only
     bool operator==(const GrabParams&) const = default;
 };
@@ -138,6 +139,8 @@ using Params = std::variant<HelloParams, LoadSceneParams, ResetParams, PausePara
     ShutdownParams>;
 
 /// The method whose params these are.
-inline Method method_of(const Params& params) { return static_cast<Method>(params.index()); }
+inline Method method_of(const Params& params) {
+    return static_cast<Method>(params.index());
+}
 
 } // namespace polycut::protocol
