@@ -229,6 +229,26 @@ TEST(Pcg, LaggedFactorIsRefreshedWhenIterationsGrow) {
     EXPECT_LE(r2.iterations, 2);
 }
 
+TEST(Pcg, StaleFactorThatCannotConvergeIsRefreshedWithinTheSolve) {
+    const SparseMatrix A = grid_matrix(6, 6, 6, kShift);
+    PcgSolver pcg({ .relative_tolerance = 1e-10,
+        .max_iterations = 3,
+        .preconditioner = Preconditioner::LaggedCholesky,
+        .refactor_iterations = 1000 });
+    Vector x;
+    ASSERT_EQ(pcg.solve(A, random_vector(A.rows(), 33), x).status, SolveStatus::Ok);
+    // the factor of A cannot bring B to 1e-10 in 3 iterations: refactor once, then converge
+    const SparseMatrix B = perturbed(A, 3.0);
+    const Vector b = random_vector(B.rows(), 34);
+    x.setZero();
+    const PcgResult r = pcg.solve(B, b, x);
+    EXPECT_EQ(r.status, SolveStatus::Ok);
+    EXPECT_TRUE(r.refactored);
+    EXPECT_GT(r.iterations, 3);
+    EXPECT_LE(r.relative_residual, 1.01e-10);
+    EXPECT_EQ(pcg.refactorizations(), 2);
+}
+
 TEST(Pcg, LaggedFactorIsRefreshedOnPatternOrSizeChange) {
     PcgSolver pcg({ .preconditioner = Preconditioner::LaggedCholesky });
     Vector x;
