@@ -293,11 +293,17 @@ double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
         const CellData& cd = m_cells[c];
         const Index n = Index(cd.nodes.size());
-        const Mat3 R = mode == ForceMode::Corotated ? m_rotation[c] : Mat3::Identity();
         Vec3 xc = Vec3::Zero();
         for (Index i : cd.nodes)
             xc += x.row(i).transpose();
         xc /= double(n);
+        Mat3 R = Mat3::Identity();
+        if (mode == ForceMode::Corotated) {
+            Mat3 A = Mat3::Zero();
+            for (Index i = 0; i < n; ++i)
+                A += (x.row(cd.nodes[std::size_t(i)]).transpose() - xc) * cd.fit.row(i);
+            R = polar_rotation_warm(A, m_rotation[c]);
+        }
         VecX u(3 * n);
         for (Index i = 0; i < n; ++i)
             u.segment<3>(3 * i) = R.transpose() * (x.row(cd.nodes[std::size_t(i)]).transpose() - xc)

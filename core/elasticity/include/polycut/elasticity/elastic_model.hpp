@@ -67,7 +67,7 @@ public:
     void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int);
 
     /// Elastic energy [J] at x: sum over cells of 1/2 u^T Ke u with the same local displacement u
-    /// as the forces (uses the cached rotations for Corotated; call assemble() first).
+    /// as the forces (Corotated: rotations of x, warm-started from the cached ones).
     double elastic_energy(const MatX3& x, ForceMode mode) const;
 
     /// Gathers the free entries of a full DOF vector (3#N) into a reduced one (#free).

@@ -1,0 +1,32 @@
+// One interface over CHOLMOD and the PCG variants for the integrators' SPD systems.
+#pragma once
+
+#include "polycut/integrate/options.hpp"
+#include "polycut/solve/cholmod_solver.hpp"
+#include "polycut/solve/pcg.hpp"
+
+namespace polycut::integrate {
+
+/// Outcome of one linear solve.
+struct LinearSolveResult {
+    solve::SolveStatus status = solve::SolveStatus::Ok;
+    int iterations = 0;
+    double relative_residual = 0;
+};
+
+/// Solves A x = b for SPD A; PCG variants start from x (warm start), CHOLMOD ignores it.
+class LinearSolver {
+public:
+    explicit LinearSolver(const SolverOptions& options);
+    /// Forget factors and preconditioners (after a sparsity pattern change).
+    void reset();
+    LinearSolveResult solve(const solve::SparseMatrix& A, const solve::Vector& b, solve::Vector& x);
+    const SolverOptions& options() const { return m_options; }
+
+private:
+    SolverOptions m_options;
+    solve::CholmodSolver m_cholmod;
+    solve::PcgSolver m_pcg;
+};
+
+} // namespace polycut::integrate

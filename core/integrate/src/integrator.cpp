@@ -1,0 +1,346 @@
+#include "polycut/integrate/integrator.hpp"
+
+#include "polycut/common/stats.hpp"
+#include "polycut/geometry/polyhedron.hpp"
+
+#include <cmath>
+#include <exception>
+
+namespace polycut::integrate {
+
+using elasticity::ForceMode;
+
+Integrator::Integrator(elasticity::ElasticModel& model, const IntegratorOptions& options)
+    : m_model(&model)
+    , m_options(options)
+    , m_solver(options.solver)
+{
+}
+
+State Integrator::rest_state() const
+{
+    State s;
+    const auto& rest = m_model->mesh().rest;
+    s.x.resize(Index(rest.size()), 3);
+    for (std::size_t i = 0; i < rest.size(); ++i)
+        s.x.row(Index(i)) = rest[i].transpose();
+    s.v.setZero(Index(rest.size()), 3);
+    return s;
+}
+
+void Integrator::set_external_forces(VecX f_ext) { m_fext = std::move(f_ext); }
+
+void Integrator::ensure_topology(StepReport& report)
+{
+    if (m_model->topology_version() == m_topology)
+        return;
+    m_topology = m_model->topology_version();
+    m_K = m_model->make_matrix();
+    m_A = m_model->make_matrix();
+    m_solver.reset();
+    m_dv.setZero(m_model->num_free_dofs());
+    geometry::Aabb box;
+    for (const Vec3& p : m_model->mesh().rest)
+        box.extend(p);
+    m_divergence_limit = m_options.divergence_factor * std::max(box.diagonal(), 1e-12);
+    if (report.warnings.empty() && m_model->num_free_dofs() == 0)
+        report.warnings.emplace_back("no free degrees of freedom");
+}
+
+void Integrator::external_reduced()
+{
+    const Index n = m_model->num_nodes();
+    m_full.setZero(3 * n);
+    if (m_fext.size() == 3 * n)
+        m_full = m_fext;
+    const VecX& mass = m_model->nodal_mass();
+    for (Index i = 0; i < n; ++i)
+        m_full.segment<3>(3 * i) += mass(i) * m_options.gravity;
+    m_model->reduce(m_full, m_fext_r);
+}
+
+double Integrator::assemble(const MatX3& x, ForceMode mode, bool with_K, StepReport& report)
+{
+    const Stopwatch sw;
+    m_model->assemble(x, mode, with_K ? &m_K : nullptr, &m_fint);
+    m_model->reduce(m_fint, m_fint_r);
+    const double ms = sw.ms();
+    report.assembly_ms += ms;
+    return ms;
+}
+
+bool Integrator::linear_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x, StepReport& report)
+{
+    const Stopwatch sw;
+    const LinearSolveResult r = m_solver.solve(A, b, x);
+    report.solve_ms += sw.ms();
+    report.solver_iterations += r.iterations;
+    report.residual = r.relative_residual;
+    report.status = r.status;
+    if (r.status != solve::SolveStatus::Ok) {
+        report.warnings.push_back(std::string("linear solve failed: ") + solve::to_string(r.status));
+        return false;
+    }
+    if (!x.allFinite()) {
+        report.status = solve::SolveStatus::NonFinite;
+        report.warnings.emplace_back("linear solve returned non-finite values");
+        return false;
+    }
+    return true;
+}
+
+namespace {
+    /// x_free += h v_free and v = v_r on free DOFs, v = 0 on fixed DOFs.
+    void advance(const std::vector<Index>& dof_map, const VecX& v_r, double h, State& s)
+    {
+        auto x = flat(s.x);
+        auto v = flat(s.v);
+        for (std::size_t k = 0; k < dof_map.size(); ++k) {
+            const Index r = dof_map[k];
+            if (r == kNone) {
+                v(Index(k)) = 0;
+                continue;
+            }
+            v(Index(k)) = v_r(r);
+            x(Index(k)) += h * v_r(r);
+        }
+    }
+} // namespace
+
+bool Integrator::step_implicit(State& s, StepReport& report)
+{
+    // (M + h D + h^2 K_R) dv = h (f_ext + f_int(x) - (D + h K_R) v), D = alpha M + beta K_R.
+    const double h = m_options.dt;
+    const double alpha = m_model->material().rayleigh_mass;
+    const double beta = m_model->material().rayleigh_stiffness;
+    external_reduced();
+    assemble(s.x, m_options.force_mode, true, report);
+    m_model->reduce(VecX(flat(s.v)), m_v_r);
+    m_tmp.noalias() = m_K * m_v_r;
+    const VecX& M = m_model->reduced_mass();
+    m_rhs = h * (m_fext_r + m_fint_r - alpha * M.cwiseProduct(m_v_r) - (beta + h) * m_tmp);
+    if (!m_rhs.allFinite()) {
+        report.status = solve::SolveStatus::NonFinite;
+        report.warnings.emplace_back("non-finite force or velocity");
+        return false;
+    }
+    const Index nnz = Index(m_K.nonZeros());
+    const double cK = h * beta + h * h, cM = 1.0 + h * alpha;
+    for (Index k = 0; k < nnz; ++k)
+        m_A.valuePtr()[k] = cK * m_K.valuePtr()[k];
+    const auto& diag = m_model->diagonal_slots();
+    for (std::size_t r = 0; r < diag.size(); ++r)
+        m_A.valuePtr()[diag[r]] += cM * M(Index(r));
+    // m_dv holds the previous step's dv: the warm start.
+    if (!linear_solve(m_A, m_rhs, m_dv, report))
+        return false;
+    m_v_r += m_dv;
+    advance(m_model->dof_map(), m_v_r, h, s);
+    return true;
+}
+
+bool Integrator::step_semi_implicit(State& s, StepReport& report)
+{
+    // v <- v + h M^-1 (f_ext + f_int(x) - D v), x <- x + h v (001, 003).
+    const double h = m_options.dt;
+    const double alpha = m_model->material().rayleigh_mass;
+    const double beta = m_model->material().rayleigh_stiffness;
+    const VecX& M = m_model->reduced_mass();
+    if (M.size() > 0 && !(M.minCoeff() > 0)) {
+        report.warnings.emplace_back("semi-implicit Euler needs a positive mass at every free DOF");
+        return false;
+    }
+    external_reduced();
+    assemble(s.x, m_options.force_mode, beta > 0, report);
+    m_model->reduce(VecX(flat(s.v)), m_v_r);
+    m_rhs = m_fext_r + m_fint_r - alpha * M.cwiseProduct(m_v_r);
+    if (beta > 0) {
+        m_tmp.noalias() = m_K * m_v_r;
+        m_rhs -= beta * m_tmp;
+    }
+    if (!m_rhs.allFinite()) {
+        report.status = solve::SolveStatus::NonFinite;
+        report.warnings.emplace_back("non-finite force or velocity");
+        return false;
+    }
+    m_v_r += h * m_rhs.cwiseQuotient(M);
+    advance(m_model->dof_map(), m_v_r, h, s);
+    return true;
+}
+
+bool Integrator::step_static(State& s, StepReport& report)
+{
+    external_reduced();
+    if (!m_fext_r.allFinite()) {
+        report.status = solve::SolveStatus::NonFinite;
+        report.warnings.emplace_back("non-finite external force");
+        return false;
+    }
+    const double fnorm = m_fext_r.norm();
+    const std::vector<Index>& dof_map = m_model->dof_map();
+    auto apply = [&](const VecX& dx, double step) {
+        auto x = flat(s.x);
+        for (std::size_t k = 0; k < dof_map.size(); ++k)
+            if (dof_map[k] != kNone)
+                x(Index(k)) += step * dx(dof_map[k]);
+    };
+    if (m_options.static_mode == StaticMode::Linear) {
+        assemble(s.x, ForceMode::Linear, true, report);
+        m_rhs = m_fext_r + m_fint_r;
+        m_dv.setZero(m_rhs.size());
+        if (!linear_solve(m_K, m_rhs, m_dv, report))
+            return false;
+        apply(m_dv, 1.0);
+        report.newton_iterations = 1;
+        s.v.setZero();
+        return true;
+    }
+    double reference = fnorm;
+    double equilibrium = 0;
+    bool converged = false;
+    for (int it = 0; it < m_options.static_max_iterations; ++it) {
+        assemble(s.x, ForceMode::Corotated, true, report);
+        m_rhs = m_fext_r + m_fint_r;
+        double rn = m_rhs.norm();
+        if (it == 0)
+            reference = std::max(fnorm, rn);
+        equilibrium = reference > 0 ? rn / reference : 0.0;
+        if (!std::isfinite(rn)) {
+            report.status = solve::SolveStatus::NonFinite;
+            report.warnings.emplace_back("non-finite residual");
+            return false;
+        }
+        if (rn <= m_options.static_tolerance * reference) {
+            converged = true;
+            break;
+        }
+        ++report.newton_iterations;
+        m_dv.setZero(m_rhs.size());
+        if (!linear_solve(m_K, m_rhs, m_dv, report))
+            return false;
+        if (m_options.static_mode == StaticMode::CorotatedFixedPoint) {
+            apply(m_dv, 1.0);
+            continue;
+        }
+        // Backtracking on the total potential energy Pi = E_el(x) - f_ext . x: the K_R step is
+        // a descent direction for it (K_R is SPD and r ~ -grad Pi), whereas the residual norm
+        // may rise on the way to the solution when cells rotate.
+        auto potential = [&]() {
+            double work = 0;
+            const auto x = flat(s.x);
+            for (std::size_t k = 0; k < dof_map.size(); ++k)
+                if (dof_map[k] != kNone)
+                    work += m_fext_r(dof_map[k]) * x(Index(k));
+            return m_model->elastic_energy(s.x, ForceMode::Corotated) - work;
+        };
+        const double pi0 = potential();
+        double step = 1.0;
+        for (int k = 0; k < 10; ++k) {
+            apply(m_dv, step);
+            // Near the solution Pi changes at O(|r|^2), below its round-off: accept a step that
+            // does not raise Pi beyond round-off or that lowers the residual.
+            if (potential() <= pi0 + 1e-12 * std::abs(pi0) || k == 9)
+                break;
+            assemble(s.x, ForceMode::Corotated, false, report);
+            if ((m_fext_r + m_fint_r).norm() < rn)
+                break;
+            apply(m_dv, -step);
+            step *= 0.5;
+        }
+    }
+    report.residual = equilibrium;
+    if (!converged) {
+        report.status = solve::SolveStatus::NotConverged;
+        report.warnings.push_back("static solve did not reach the tolerance in "
+            + std::to_string(m_options.static_max_iterations) + " iterations");
+    } else {
+        report.status = solve::SolveStatus::Ok;
+    }
+    s.v.setZero();
+    return true;
+}
+
+StepReport Integrator::step(State& s)
+{
+    const Stopwatch sw;
+    StepReport report;
+    bool backed_up = false;
+    try {
+        ensure_topology(report);
+        const Index n = m_model->num_nodes();
+        if (s.x.rows() != n) {
+            report.warnings.emplace_back("state has the wrong number of nodes");
+            report.rolled_back = true;
+            report.step_ms = sw.ms();
+            return report;
+        }
+        if (s.v.rows() != n)
+            s.v.setZero(n, 3);
+        m_backup.x = s.x;
+        m_backup.v = s.v;
+        m_backup.time = s.time;
+        backed_up = true;
+        bool ok = s.x.allFinite() && s.v.allFinite();
+        if (!ok)
+            report.warnings.emplace_back("non-finite state before the step");
+        if (ok) {
+            switch (m_options.kind) {
+            case IntegratorKind::Static:
+                ok = step_static(s, report);
+                break;
+            case IntegratorKind::ImplicitEuler:
+                ok = step_implicit(s, report);
+                break;
+            case IntegratorKind::SemiImplicitEuler:
+                ok = step_semi_implicit(s, report);
+                break;
+            }
+        }
+        if (ok && !(s.x.allFinite() && s.v.allFinite())) {
+            ok = false;
+            report.status = solve::SolveStatus::NonFinite;
+            report.warnings.emplace_back("non-finite state after the step");
+        }
+        if (ok) {
+            double worst = 0;
+            const auto& rest = m_model->mesh().rest;
+            for (Index i = 0; i < n; ++i)
+                worst = std::max(worst, (s.x.row(i).transpose() - rest[std::size_t(i)]).norm());
+            if (worst > m_divergence_limit) {
+                ok = false;
+                report.warnings.emplace_back("diverged: displacement beyond the divergence limit");
+            }
+        }
+        if (ok) {
+            if (m_options.kind != IntegratorKind::Static)
+                s.time += m_options.dt;
+        } else {
+            s.x = m_backup.x;
+            s.v = m_backup.v;
+            s.time = m_backup.time;
+            report.rolled_back = true;
+            m_dv.setZero(m_model->num_free_dofs()); // a bad warm start must not persist
+        }
+    } catch (const std::exception& e) {
+        report.warnings.push_back(std::string("step failed: ") + e.what());
+        if (backed_up) {
+            s.x = m_backup.x;
+            s.v = m_backup.v;
+            s.time = m_backup.time;
+        }
+        report.rolled_back = true;
+    }
+    report.step_ms = sw.ms();
+    return report;
+}
+
+double Integrator::energy(const State& s) const
+{
+    const VecX& m = m_model->nodal_mass();
+    double kinetic = 0;
+    for (Index i = 0; i < s.v.rows(); ++i)
+        kinetic += 0.5 * m(i) * s.v.row(i).squaredNorm();
+    return kinetic + m_model->elastic_energy(s.x, m_options.force_mode);
+}
+
+} // namespace polycut::integrate

@@ -1,0 +1,64 @@
+#include "polycut/integrate/linear_solver.hpp"
+
+namespace polycut::integrate {
+namespace {
+    solve::PcgOptions pcg_options(const SolverOptions& o)
+    {
+        solve::PcgOptions p;
+        p.relative_tolerance = o.relative_tolerance;
+        p.max_iterations = o.max_iterations;
+        p.refactor_every = o.refactor_every;
+        p.refactor_iterations = o.refactor_iterations;
+        p.background_refactor = o.background_refactor;
+        switch (o.kind) {
+        case LinearSolverKind::PcgBlockJacobi:
+            p.preconditioner = solve::Preconditioner::BlockJacobi3;
+            break;
+        case LinearSolverKind::PcgLagged:
+            p.preconditioner = solve::Preconditioner::LaggedCholesky;
+            break;
+        default:
+            p.preconditioner = solve::Preconditioner::Jacobi;
+        }
+        return p;
+    }
+} // namespace
+
+LinearSolver::LinearSolver(const SolverOptions& options)
+    : m_options(options)
+    , m_pcg(pcg_options(options))
+{
+}
+
+void LinearSolver::reset()
+{
+    m_cholmod = solve::CholmodSolver();
+    m_pcg.reset();
+}
+
+LinearSolveResult LinearSolver::solve(const solve::SparseMatrix& A, const solve::Vector& b,
+    solve::Vector& x)
+{
+    LinearSolveResult r;
+    if (A.rows() == 0) {
+        x.resize(0);
+        return r;
+    }
+    if (m_options.kind == LinearSolverKind::Cholmod) {
+        r.status = m_cholmod.factorize(A);
+        if (r.status == solve::SolveStatus::Ok)
+            r.status = m_cholmod.solve(b, x);
+        if (r.status == solve::SolveStatus::Ok) {
+            const double bn = b.norm();
+            r.relative_residual = bn > 0 ? (b - A * x).norm() / bn : 0.0;
+        }
+        return r;
+    }
+    const solve::PcgResult p = m_pcg.solve(A, b, x);
+    r.status = p.status;
+    r.iterations = p.iterations;
+    r.relative_residual = p.relative_residual;
+    return r;
+}
+
+} // namespace polycut::integrate
