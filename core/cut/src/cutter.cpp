@@ -84,6 +84,7 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles)
             ++report.triangles_missed;
         detail::separate(ed, crack);
     }
+    detail::fix_pinched_edges(ed);
     ed.end();
     report.elapsed_ms = watch.ms();
     return report;
@@ -124,6 +125,7 @@ CutReport Cutter::split_by_plane(const Vec3& point, const Vec3& normal,
         Index iface = kNone;
         detail::split_cell(ed, cls, c, iface);
     }
+    detail::fix_pinched_edges(ed);
     ed.end();
     report.elapsed_ms = watch.ms();
     return report;

@@ -60,6 +60,9 @@ public:
     /// Marks cell c changed (invalidates caches).
     void touch(Index c);
 
+    /// Cells changed since begin(), in order of first change (grows while iterating).
+    const std::vector<Index>& changed_cells() const { return m_changed_list; }
+
     const geometry::Aabb& bounds(Index c);
     /// Thickness 6 V / A of cell c [m].
     double thickness(Index c);

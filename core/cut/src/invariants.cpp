@@ -61,8 +61,11 @@ CutInvariants check_cut_invariants(const mesh::Mesh& m, double volume_before,
     }
     r.min_volume_ratio = vmax > 0 ? vmin / vmax : 0;
     r.volume_error = volume_before != 0 ? std::abs(r.volume - volume_before) / volume_before : 0;
-    if (!(r.volume_error <= opt.volume_tol))
-        fail("rest volume changed by " + std::to_string(r.volume_error) + " (relative)");
+    if (!(r.volume_error <= opt.volume_tol)) {
+        std::ostringstream msg;
+        msg << "rest volume changed by " << r.volume_error << " (relative)";
+        fail(msg.str());
+    }
 
     mesh::ValidationOptions vo;
     vo.planarity_tol = opt.planarity_tol;

@@ -99,6 +99,54 @@ namespace {
         return true;
     }
 
+    // Whether the cells around edge (a, b) fall apart into several groups when connected only
+    // through interior faces that contain the edge.
+    bool ring_disconnected(Editor& ed, Index a, Index b)
+    {
+        const mesh::Mesh& m = ed.m;
+        auto has_edge = [&](const std::vector<Index>& loop) {
+            const int i = find_in(loop, a);
+            if (i < 0)
+                return false;
+            const std::size_t k = loop.size();
+            return loop[(std::size_t(i) + 1) % k] == b || loop[(std::size_t(i) + k - 1) % k] == b;
+        };
+        std::vector<Index> ring;
+        for (Index c : at(ed.node_cells, a)) {
+            const auto& cb = at(ed.node_cells, b);
+            if (std::find(cb.begin(), cb.end(), c) == cb.end())
+                continue;
+            for (Index f : at(m.cells, c).faces)
+                if (has_edge(at(m.faces, f).nodes)) {
+                    ring.push_back(c);
+                    break;
+                }
+        }
+        if (ring.size() < 2)
+            return false;
+        std::vector<char> seen(ring.size(), 0);
+        std::vector<std::size_t> stack { 0 };
+        seen[0] = 1;
+        std::size_t reached = 1;
+        while (!stack.empty()) {
+            const Index c = ring[stack.back()];
+            stack.pop_back();
+            for (Index f : at(m.cells, c).faces) {
+                const mesh::Face& face = at(m.faces, f);
+                if (face.boundary() || !has_edge(face.nodes))
+                    continue;
+                const Index other = face.owner == c ? face.neighbour : face.owner;
+                for (std::size_t j = 0; j < ring.size(); ++j)
+                    if (ring[j] == other && !seen[j]) {
+                        seen[j] = 1;
+                        ++reached;
+                        stack.push_back(j);
+                    }
+            }
+        }
+        return reached < ring.size();
+    }
+
     std::vector<Index> sorted(std::vector<Index> v)
     {
         std::sort(v.begin(), v.end());
@@ -124,6 +172,30 @@ namespace {
         return q;
     }
 } // namespace
+
+void fix_pinched_edges(Editor& ed)
+{
+    // An edge that separated cells still share (a cut reaching the skin along it, or a later
+    // plane split drawing a chord between two crack-front nodes of a Cut face) is non-manifold:
+    // split it at its midpoint and separate the midpoint. Only edges of changed cells can be new.
+    mesh::Mesh& m = ed.m;
+    for (std::size_t k = 0; k < ed.changed_cells().size(); ++k) {
+        const Index c = ed.changed_cells()[k];
+        for (std::size_t j = 0; j < at(m.cells, c).faces.size(); ++j) {
+            const Index f = at(m.cells, c).faces[j];
+            if (!at(m.faces, f).boundary())
+                continue; // a pinched edge has boundary faces on both sides
+            for (std::size_t i = 0; i < at(m.faces, f).nodes.size(); ++i) {
+                const auto& loop = at(m.faces, f).nodes;
+                const Index a = loop[i], b = loop[(i + 1) % loop.size()];
+                if (!ring_disconnected(ed, a, b))
+                    continue;
+                const Index mid = ed.split_edge(a, b, 0.5, c);
+                split_node(ed, mid);
+            }
+        }
+    }
+}
 
 void separate(Editor& ed, const std::vector<Index>& crack)
 {
@@ -153,6 +225,7 @@ void separate(Editor& ed, const std::vector<Index>& crack)
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     for (Index n : nodes)
         split_node(ed, n);
+    fix_pinched_edges(ed);
 
     // 000 sec. 5.2: if no node inside the cut shape separated, the cut cannot open; a pocket
     // node at the centroid of the largest covered face opens it.

@@ -14,4 +14,8 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri);
 /// cells are no longer connected around them, and inserts a pocket node when nothing opened.
 void separate(Editor& ed, const std::vector<Index>& crack);
 
+/// Splits edges still shared by cells that a cut separated around them (non-manifold boundary
+/// edges), at their midpoints, and separates the midpoints. Looks at the changed cells only.
+void fix_pinched_edges(Editor& ed);
+
 } // namespace polycut::cut::detail

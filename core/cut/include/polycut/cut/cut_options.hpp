@@ -16,7 +16,7 @@ struct CutOptions {
     /// Snapping distance, relative to the local cell thickness h = 6 V / A of the thinnest cell
     /// around a node: a node closer than snap * h to a cutting plane counts as lying on it, so no
     /// edge node is created next to it (no needles, 000 sec. 4 and 5.1).
-    double snap = 1e-2;
+    double snap = 1e-3;
     /// A sweep triangle whose area is below min_area * L^2 (L: rest bounding-box diagonal of the
     /// mesh) or whose shortest altitude is below min_area * L is rejected as degenerate.
     double min_area = 1e-10;
