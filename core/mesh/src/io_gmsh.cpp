@@ -117,9 +117,9 @@ private:
 
     void skip_section(std::string_view head) {
         const std::string end = "$End" + std::string(head.substr(1));
-        const std::string name(head);
+        const std::string context = "in " + std::string(head) + " (missing " + end + ")";
         while (true) {
-            m_in.next_or_fail("in " + name + " (missing " + end + ")");
+            m_in.next_or_fail(context);
             if (m_in.size() == 1 && m_in.tokens().front() == end)
                 return;
         }
@@ -289,14 +289,14 @@ private:
             const long n = m_in.integer(3, "number of elements in block", 0, kMaxCount);
             for (long i = 0; i < n; ++i) {
                 next_record("elements of the block", i, n, "$Elements");
-                m_in.expect_tokens(std::size_t(1 + t.nodes),
+                m_in.expect_tokens(1 + std::size_t(t.nodes),
                     std::string(t.name) + " (tag and " + std::to_string(t.nodes) + " nodes)");
                 m_in.integer(0, "element tag");
                 if (t.dim == 3)
                     add_element(t, 1);
                 else
                     for (int k = 0; k < t.nodes; ++k)
-                        node(std::size_t(1 + k));
+                        node(1 + std::size_t(k));
             }
             total += n;
         }

@@ -112,7 +112,7 @@ void write_vtu_flat(const std::string& path, const Mesh& mesh, const double* xyz
     }
 
     std::string out;
-    out.reserve(std::size_t(64 * mesh.num_nodes() + 48 * connectivity.size()) + 1024);
+    out.reserve(64 * std::size_t(mesh.num_nodes()) + 48 * connectivity.size() + 1024);
     out += "<?xml version=\"1.0\"?>\n"
            "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
            "  <UnstructuredGrid>\n";
