@@ -1,0 +1,57 @@
+// World-to-rest mapping of sweep triangles (issue 5 item 1, DESIGN.md sec. 3): a uniform grid
+// over the deformed cell bounds, refitted each tick, finds the cell under a world point; the
+// point goes to rest space through the inverse of that cell's least-squares affine fit.
+#pragma once
+
+#include "polycut/cut/cut_options.hpp"
+#include "polycut/geometry/affine_fit.hpp"
+#include "polycut/geometry/polyhedron.hpp"
+#include "polycut/mesh/mesh.hpp"
+
+#include <span>
+#include <vector>
+
+namespace polycut::cut {
+
+/// Maps world points and sweep triangles to rest space through per-cell affine fits.
+class WorldToRest {
+public:
+    /// Binds to `mesh` (must outlive this object). Call refit() before mapping.
+    explicit WorldToRest(const mesh::Mesh& mesh);
+
+    /// Refits every cell's affine map and the grid to the current world positions (#N) [m].
+    /// Call once per tick, and after each cut (the topology changed). O(mesh).
+    void refit(std::span<const Vec3> world);
+    /// Same with displacements u (#N x 3) [m]: world = rest + u.
+    void refit_displaced(const MatX3& u);
+
+    /// Rest position of world point x [m]: through the fit of the cell containing x (the one
+    /// whose rest preimage lies deepest inside it), else of the nearest cell (extrapolated).
+    Vec3 map_point(const Vec3& x) const;
+    /// Cell used for x (kNone if the mesh is empty).
+    Index locate(const Vec3& x) const;
+
+    /// Maps a world triangle to rest space. With max_edge > 0 [m] the triangle is first divided
+    /// into n^2 similar triangles whose edges are at most max_edge, each corner mapped through
+    /// its own cell, so the rest cut follows a deformation that varies across the triangle.
+    std::vector<Triangle> map_triangle(const Triangle& world, double max_edge = 0) const;
+
+    /// Cells whose deformed bounds overlap `box`.
+    std::vector<Index> candidates(const geometry::Aabb& box) const;
+
+private:
+    const mesh::Mesh& m_mesh;
+    std::vector<Vec3> m_world;
+    std::vector<geometry::AffineFit> m_fit;
+    std::vector<Mat3> m_inverse;
+    std::vector<geometry::Aabb> m_box;
+    geometry::Aabb m_all;
+    Eigen::Vector3i m_dims { 1, 1, 1 };
+    Vec3 m_step = Vec3::Ones();
+    std::vector<std::vector<Index>> m_buckets;
+
+    Eigen::Vector3i bucket(const Vec3& x) const;
+    double depth_outside(Index c, const Vec3& X) const;
+};
+
+} // namespace polycut::cut

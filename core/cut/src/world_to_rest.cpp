@@ -1,0 +1,161 @@
+#include "polycut/cut/world_to_rest.hpp"
+
+#include "polycut/geometry/polygon.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace polycut::cut {
+
+WorldToRest::WorldToRest(const mesh::Mesh& mesh)
+    : m_mesh(mesh)
+{
+}
+
+void WorldToRest::refit_displaced(const MatX3& u)
+{
+    std::vector<Vec3> world(m_mesh.rest.size());
+    for (std::size_t i = 0; i < world.size(); ++i)
+        world[i] = m_mesh.rest[i] + u.row(Eigen::Index(i)).transpose();
+    refit(world);
+}
+
+void WorldToRest::refit(std::span<const Vec3> world)
+{
+    m_world.assign(world.begin(), world.end());
+    const std::size_t nc = m_mesh.cells.size();
+    m_fit.assign(nc, {});
+    m_inverse.assign(nc, Mat3::Identity());
+    m_box.assign(nc, {});
+    m_all = {};
+    std::vector<Vec3> X, x;
+    for (std::size_t c = 0; c < nc; ++c) {
+        X.clear();
+        x.clear();
+        for (Index n : m_mesh.cells[c].nodes) {
+            X.push_back(m_mesh.rest[std::size_t(n)]);
+            x.push_back(m_world[std::size_t(n)]);
+            m_box[c].extend(m_world[std::size_t(n)]);
+        }
+        m_all.extend(m_box[c]);
+        m_fit[c] = geometry::fit_affine(X, x);
+        const double det = m_fit[c].A.determinant();
+        m_inverse[c] = std::abs(det) > 1e-12 ? Mat3(m_fit[c].A.inverse()) : Mat3::Identity();
+    }
+    // Uniform grid with about one bucket per cell.
+    const Vec3 ext = m_all.empty() ? Vec3::Ones() : Vec3(m_all.extent().cwiseMax(1e-12));
+    const double h = std::cbrt(ext.prod() / double(std::max<std::size_t>(nc, 1)));
+    for (int k = 0; k < 3; ++k)
+        m_dims[k] = std::clamp(int(std::ceil(ext[k] / h)), 1, 256);
+    m_step = ext.cwiseQuotient(m_dims.cast<double>());
+    m_buckets.assign(std::size_t(m_dims.prod()), {});
+    for (std::size_t c = 0; c < nc; ++c) {
+        const auto lo = bucket(m_box[c].lo), hi = bucket(m_box[c].hi);
+        for (int k = lo.z(); k <= hi.z(); ++k)
+            for (int j = lo.y(); j <= hi.y(); ++j)
+                for (int i = lo.x(); i <= hi.x(); ++i)
+                    m_buckets[std::size_t(i + m_dims.x() * (j + m_dims.y() * k))].push_back(Index(c));
+    }
+}
+
+Eigen::Vector3i WorldToRest::bucket(const Vec3& x) const
+{
+    Eigen::Vector3i b;
+    for (int k = 0; k < 3; ++k)
+        b[k] = std::clamp(int(std::floor((x[k] - m_all.lo[k]) / m_step[k])), 0, m_dims[k] - 1);
+    return b;
+}
+
+std::vector<Index> WorldToRest::candidates(const geometry::Aabb& box) const
+{
+    std::vector<Index> out;
+    if (m_buckets.empty() || !box.overlaps(m_all))
+        return out;
+    const auto lo = bucket(box.lo), hi = bucket(box.hi);
+    for (int k = lo.z(); k <= hi.z(); ++k)
+        for (int j = lo.y(); j <= hi.y(); ++j)
+            for (int i = lo.x(); i <= hi.x(); ++i)
+                for (Index c : m_buckets[std::size_t(i + m_dims.x() * (j + m_dims.y() * k))])
+                    if (m_box[std::size_t(c)].overlaps(box))
+                        out.push_back(c);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+double WorldToRest::depth_outside(Index c, const Vec3& X) const
+{
+    // Largest signed distance of X outside the cell's face planes (<= 0 inside a convex cell).
+    double worst = -std::numeric_limits<double>::infinity();
+    for (Index f : m_mesh.cells[std::size_t(c)].faces) {
+        const auto pts = geometry::gather(m_mesh.rest, m_mesh.face_loop(f, c));
+        worst = std::max(worst, (X - geometry::polygon_centroid(pts)).dot(geometry::polygon_normal(pts)));
+    }
+    return worst;
+}
+
+Index WorldToRest::locate(const Vec3& x) const
+{
+    geometry::Aabb box;
+    box.extend(x);
+    Index best = kNone;
+    double best_depth = std::numeric_limits<double>::infinity();
+    for (Index c : candidates(box)) {
+        const Vec3 X = m_inverse[std::size_t(c)] * (x - m_fit[std::size_t(c)].t);
+        const double d = depth_outside(c, X);
+        if (d < best_depth) {
+            best_depth = d;
+            best = c;
+        }
+    }
+    if (best != kNone)
+        return best;
+    // Outside every deformed box: the cell with the nearest deformed box.
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < m_box.size(); ++c) {
+        const Vec3 d = (m_box[c].lo - x).cwiseMax(x - m_box[c].hi).cwiseMax(0.0);
+        if (d.norm() < nearest) {
+            nearest = d.norm();
+            best = Index(c);
+        }
+    }
+    return best;
+}
+
+Vec3 WorldToRest::map_point(const Vec3& x) const
+{
+    const Index c = locate(x);
+    if (c == kNone)
+        return x;
+    return m_inverse[std::size_t(c)] * (x - m_fit[std::size_t(c)].t);
+}
+
+std::vector<Triangle> WorldToRest::map_triangle(const Triangle& w, double max_edge) const
+{
+    int n = 1;
+    if (max_edge > 0) {
+        const double longest = std::max({ (w[1] - w[0]).norm(), (w[2] - w[1]).norm(),
+            (w[0] - w[2]).norm() });
+        n = std::clamp(int(std::ceil(longest / max_edge)), 1, 64);
+    }
+    // Barycentric lattice points (i, j) with i + j <= n, mapped once each.
+    std::vector<Vec3> mapped(std::size_t((n + 1) * (n + 2) / 2));
+    auto id = [n](int i, int j) { return std::size_t(j * (n + 1) - j * (j - 1) / 2 + i); };
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i + j <= n; ++i) {
+            const double a = double(i) / n, b = double(j) / n;
+            mapped[id(i, j)] = map_point((1 - a - b) * w[0] + a * w[1] + b * w[2]);
+        }
+    std::vector<Triangle> out;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i + j < n; ++i) {
+            out.push_back({ mapped[id(i, j)], mapped[id(i + 1, j)], mapped[id(i, j + 1)] });
+            if (i + j + 1 < n)
+                out.push_back({ mapped[id(i + 1, j)], mapped[id(i + 1, j + 1)], mapped[id(i, j + 1)] });
+        }
+    return out;
+}
+
+} // namespace polycut::cut

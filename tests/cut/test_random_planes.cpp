@@ -1,0 +1,83 @@
+// The random-plane builder (000 Fig. 2) and the world-to-rest mapping.
+#include "polycut/cut/invariants.hpp"
+#include "polycut/cut/random_planes.hpp"
+#include "polycut/cut/world_to_rest.hpp"
+#include "polycut/mesh/builders.hpp"
+#include "polycut/mesh/validate.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace polycut;
+
+namespace {
+mesh::Mesh block(int n, double size = 0.1)
+{
+    mesh::BoxGrid g;
+    g.lo = Vec3::Zero();
+    g.hi = Vec3::Constant(size);
+    g.cells = Eigen::Vector3i(n, n, n);
+    return mesh::hex_grid(g);
+}
+} // namespace
+
+TEST(RandomPlanes, OneHexThirtyPlanes)
+{
+    const auto hex = block(1);
+    const auto m = cut::split_by_random_planes(hex, 30, 7);
+    EXPECT_EQ(m.num_cells(), 31);
+    cut::InvariantOptions io;
+    io.volume_tol = 1e-12;
+    const auto inv = cut::check_cut_invariants(m, hex.rest_volume(), io);
+    EXPECT_TRUE(inv.ok()) << inv.first_problem;
+    EXPECT_EQ(inv.components, 1);
+    std::size_t lo = 1000, hi = 0;
+    for (const auto& c : m.cells) {
+        lo = std::min(lo, c.nodes.size());
+        hi = std::max(hi, c.nodes.size());
+    }
+    std::cout << "31 cells with " << lo << " to " << hi << " nodes\n";
+    EXPECT_GE(lo, 4u);
+}
+
+TEST(RandomPlanes, GridStaysConformingAndDeterministic)
+{
+    const auto grid = block(3);
+    cut::RandomPlanesOptions opt;
+    opt.one_cell_per_plane = false;
+    const auto a = cut::split_by_random_planes(grid, 6, 3, opt);
+    const auto b = cut::split_by_random_planes(grid, 6, 3, opt);
+    EXPECT_EQ(a.num_cells(), b.num_cells());
+    EXPECT_EQ(a.rest, b.rest);
+    cut::InvariantOptions io;
+    io.volume_tol = 1e-12;
+    const auto inv = cut::check_cut_invariants(a, grid.rest_volume(), io);
+    EXPECT_TRUE(inv.ok()) << inv.first_problem;
+    EXPECT_GT(a.num_cells(), 60);
+    mesh::ValidationOptions vo;
+    vo.planarity_tol = 2e-2;
+    EXPECT_TRUE(mesh::check_mesh(a, vo).empty());
+}
+
+TEST(WorldToRest, InvertsAffineDeformation)
+{
+    auto m = block(3);
+    Mat3 A;
+    A << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0, 0.1, 1.2;
+    const Vec3 t(0.3, -0.1, 0.2);
+    std::vector<Vec3> world;
+    for (const Vec3& X : m.rest)
+        world.push_back(A * X + t);
+    cut::WorldToRest map(m);
+    map.refit(world);
+    const Vec3 X(0.031, 0.052, 0.077);
+    EXPECT_LT((map.map_point(A * X + t) - X).norm(), 1e-12);
+    const cut::Triangle w { A * Vec3(0.01, 0.01, 0.01) + t, A * Vec3(0.09, 0.02, 0.05) + t,
+        A * Vec3(0.04, 0.09, 0.08) + t };
+    const auto rest = map.map_triangle(w, 0.02);
+    EXPECT_GT(rest.size(), 1u);
+    double area = 0;
+    for (const auto& r : rest)
+        area += 0.5 * (r[1] - r[0]).cross(r[2] - r[0]).norm();
+    const Vec3 p0(0.01, 0.01, 0.01), p1(0.09, 0.02, 0.05), p2(0.04, 0.09, 0.08);
+    EXPECT_NEAR(area, 0.5 * (p1 - p0).cross(p2 - p0).norm(), 1e-12);
+}
