@@ -124,8 +124,7 @@ TEST(CgRelaxation, PrescribedMotionOnlyUsesInitialResidualAsReference) {
         fixed[static_cast<size_t>(n - 3 + c)] = true; // last node, pulled
         u[n - 3 + c] = 0.1;
     }
-    // three fixed collinear... two nodes leave rotations free, but K here has no rotational
-    // null space (springs are not rotation invariant), so the reduced system is SPD
+    // the spring blocks k (0.5 I + d d^T) resist rotations too, so two fixed nodes suffice
     const StiffnessProduct apply_K = [&](const Vector& x, Vector& Kx) { Kx = K * x; };
     const Vector f = Vector::Zero(n);
     const Vector u_ref = reduced_solve(K, f, fixed, u);

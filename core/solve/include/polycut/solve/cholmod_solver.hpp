@@ -21,6 +21,7 @@ enum class Ordering {
 /// Each instance owns its own cholmod_common, so distinct instances may be used from distinct
 /// threads; one instance is not thread-safe (solve() reuses a mutable workspace). The first
 /// instance sets OpenBLAS to one thread unless OPENBLAS_NUM_THREADS is set (blas_threads.hpp).
+/// A moved-from solver is empty (not ready) and restarts with Ordering::Auto when reused.
 class CholmodSolver {
 public:
     CholmodSolver();
