@@ -20,12 +20,14 @@ public:
 
     /// True when a value is held.
     bool ok() const { return m_data.index() == 0; }
+    /// Same as ok().
     explicit operator bool() const { return ok(); }
 
     /// The value (requires ok()).
     T& value() & { return std::get<0>(m_data); }
     const T& value() const& { return std::get<0>(m_data); }
     T&& value() && { return std::get<0>(std::move(m_data)); }
+    /// Member access to the value (requires ok()).
     T* operator->() { return &value(); }
     const T* operator->() const { return &value(); }
 

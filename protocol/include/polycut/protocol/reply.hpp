@@ -24,7 +24,8 @@ struct Reply {
 };
 
 /// Encodes a success reply. A SurfaceSnapshot result travels as [JSON, positions, triangles,
-/// tags]; every other result as [JSON]. The caller prepends the routing envelope.
+/// tags] (its vertex/triangle counts are taken from the arrays and has_topology is forced true);
+/// every other result as [JSON]. The caller prepends the routing envelope.
 Message encode_result(const RequestId& id, const Result& result);
 
 /// Encodes an error reply: {"jsonrpc":"2.0","id":..,"error":{"code","message","data":{"pointer",
