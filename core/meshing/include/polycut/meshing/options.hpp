@@ -1,0 +1,33 @@
+// Options shared by every CGAL Mesh_3 entry point (implicit shapes and closed surfaces).
+#pragma once
+
+namespace polycut::meshing {
+
+/// Sizing and quality criteria of a tetrahedral mesh (CGAL Mesh_3 criteria) and its seed.
+struct MeshingOptions {
+    /// Upper bound on the circumradius of the tetrahedra and on the radius of the surface
+    /// Delaunay balls [m]. Edges of well-shaped tets come out at roughly 1-1.6 x cell_size.
+    double cell_size = 0.01;
+    /// Upper bound on the distance between a boundary facet's circumcentre and the true surface
+    /// [m]; <= 0 means cell_size / 10.
+    double facet_distance = 0;
+    /// Lower bound on the smallest angle of boundary facets [deg] (CGAL allows at most 30).
+    double facet_angle = 25;
+    /// Upper bound on circumradius / shortest edge of the tetrahedra (>= 2 is safe).
+    double cell_radius_edge_ratio = 3;
+    /// Seed of every random choice CGAL makes; the same input and seed give the same mesh.
+    unsigned seed = 0;
+    /// Run ODT smoothing, sliver perturbation and exudation after refinement (slower, better
+    /// dihedral angles). Without it the mesh is the plain refined Delaunay mesh.
+    bool optimize = false;
+    /// Surfaces only: edges whose dihedral angle deviates from flat by more than this are kept
+    /// as sharp features [deg]; <= 0 disables feature detection.
+    double feature_angle = 60;
+
+    /// facet_distance with the default applied [m].
+    double effective_facet_distance() const {
+        return facet_distance > 0 ? facet_distance : cell_size / 10;
+    }
+};
+
+} // namespace polycut::meshing

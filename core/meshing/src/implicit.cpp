@@ -1,0 +1,41 @@
+// Tetrahedral meshes of implicit shapes: CGAL Mesh_3 on a labeled implicit domain.
+#include "polycut/meshing/implicit.hpp"
+
+#include "mesh3_common.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <functional>
+
+namespace polycut::meshing {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Domain = CGAL::Labeled_mesh_domain_3<Kernel>;
+using Triangulation = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
+using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation>;
+
+} // namespace
+
+mesh::Mesh mesh_implicit(const ImplicitShape& shape, const MeshingOptions& options) {
+    check_shape(shape);
+    detail::check_options(options);
+    // The value is scaled to the bounding radius so that CGAL's bisection tolerance
+    // (relative_error_bound, relative to the bounding sphere) means the same for every size.
+    const std::function<double(const Point&)> value
+        = [shape](const Point& p) { return implicit_value(shape, Vec3(p.x(), p.y(), p.z())); };
+    // The bounding sphere must strictly contain the shape; 20 % margin.
+    const double R = 1.2 * bounding_radius(shape);
+    const Point c(shape.center.x(), shape.center.y(), shape.center.z());
+    CGAL::Random rng(options.seed);
+    namespace p = CGAL::parameters;
+    const Domain domain = Domain::create_implicit_mesh_domain(
+        value, Kernel::Sphere_3(c, R * R), p::relative_error_bound = 1e-6, p::p_rng = &rng);
+    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options);
+    return detail::to_mesh(c3t3, "implicit shape");
+}
+
+} // namespace polycut::meshing

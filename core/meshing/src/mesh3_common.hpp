@@ -1,0 +1,82 @@
+// Private to the meshing module (includes CGAL): the Mesh_3 run shared by the implicit and the
+// polyhedral domains, and the conversion of the resulting complex into a polycut Mesh.
+#pragma once
+
+#include "polycut/common/error.hpp"
+#include "polycut/mesh/mesh.hpp"
+#include "polycut/meshing/options.hpp"
+
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Random.h>
+#include <CGAL/make_mesh_3.h>
+#include <array>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace polycut::meshing::detail {
+
+/// Throws InputError unless every option is finite and in range.
+inline void check_options(const MeshingOptions& o) {
+    auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+    if (!positive(o.cell_size))
+        throw InputError("options.cell_size", "cell size must be finite and > 0");
+    if (!std::isfinite(o.facet_distance))
+        throw InputError("options.facet_distance", "facet distance must be finite");
+    if (!(o.facet_angle > 0 && o.facet_angle <= 30))
+        throw InputError("options.facet_angle", "facet angle must be in (0, 30] degrees");
+    if (!(o.cell_radius_edge_ratio >= 2 && std::isfinite(o.cell_radius_edge_ratio)))
+        throw InputError("options.cell_radius_edge_ratio", "radius-edge ratio must be >= 2");
+    if (!std::isfinite(o.feature_angle))
+        throw InputError("options.feature_angle", "feature angle must be finite");
+}
+
+/// Runs Mesh_3 on a domain. Every random choice CGAL makes comes from `rng` (the domain's
+/// generator, passed by the caller) or from the default generator, reseeded here.
+template <class C3t3, class Domain> C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o) {
+    using Criteria = CGAL::Mesh_criteria_3<typename C3t3::Triangulation>;
+    namespace p = CGAL::parameters;
+    CGAL::get_default_random() = CGAL::Random(o.seed);
+    const double size = o.cell_size;
+    // edge_size only matters for domains with 1D features (sharp surface edges).
+    const Criteria criteria(p::edge_size = size, p::facet_angle = o.facet_angle,
+        p::facet_size = size, p::facet_distance = o.effective_facet_distance(),
+        p::cell_radius_edge_ratio = o.cell_radius_edge_ratio, p::cell_size = size);
+    // manifold(): the boundary of the cells in the complex is a 2-manifold, which the cutter
+    // and validate() rely on. No time limits anywhere: they would make the mesh depend on speed.
+    if (o.optimize)
+        return CGAL::make_mesh_3<C3t3>(domain, criteria, p::manifold(),
+            p::odt(p::max_iteration_number = 20), p::perturb(), p::exude());
+    return CGAL::make_mesh_3<C3t3>(domain, criteria, p::manifold(), p::no_perturb(), p::no_exude());
+}
+
+/// The cells in the complex as tetrahedra, with the vertices they use numbered by first use
+/// (so unreferenced vertices are dropped and the order is deterministic).
+template <class C3t3> mesh::Mesh to_mesh(const C3t3& c3t3, const std::string& what) {
+    using Vertex_handle = typename C3t3::Vertex_handle;
+    std::map<Vertex_handle, Index> ids;
+    std::vector<Vec3> rest;
+    std::vector<std::array<Index, 4>> tets;
+    tets.reserve(std::size_t(c3t3.number_of_cells_in_complex()));
+    for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
+        std::array<Index, 4> tet {};
+        for (int i = 0; i < 4; ++i) {
+            const Vertex_handle v = c->vertex(i);
+            const auto [it, inserted] = ids.try_emplace(v, Index(rest.size()));
+            if (inserted) {
+                const auto& p = v->point();
+                rest.emplace_back(
+                    CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+            }
+            tet[std::size_t(i)] = it->second;
+        }
+        tets.push_back(tet);
+    }
+    if (tets.empty())
+        throw MeshError(-1, -1, what + ": CGAL Mesh_3 produced no tetrahedra");
+    return mesh::Mesh::from_tets(std::move(rest), tets);
+}
+
+} // namespace polycut::meshing::detail
