@@ -3,10 +3,9 @@
 // coordinates with the heuristic rule (000 eq. 14-16) and the reference rule (degree 2), and for
 // the harmonic basis (001, Gauss degree 2). Targets: < 1 ms (mvc heuristic) and < 10 ms
 // (harmonic) for a typical cut cell of 8-16 nodes.
+#include "../tests/basis/polyhedral_cells.hpp"
 #include "polycut/basis/harmonic.hpp"
 #include "polycut/basis/mean_value.hpp"
-
-#include "../tests/basis/polyhedral_cells.hpp"
 
 #include <benchmark/benchmark.h>
 #include <numbers>
@@ -18,8 +17,7 @@ using namespace polycut::basis::testing;
 
 /// A cell with about `nodes` nodes: tet, cube, cut cube, truncated octahedron, or a prism over
 /// a regular polygon (2k nodes).
-CellGeometry cell_with(int nodes)
-{
+CellGeometry cell_with(int nodes) {
     switch (nodes) {
     case 4:
         return unit_tet();
@@ -44,8 +42,7 @@ CellGeometry cell_with(int nodes)
 
 const auto kC = isotropic_c(1e5, 0.4);
 
-void BM_MvcHeuristic(benchmark::State& state)
-{
+void BM_MvcHeuristic(benchmark::State& state) {
     const auto geo = cell_with(int(state.range(0)));
     for (auto _ : state) {
         const auto ci = MeanValueCell(geo).integrate(MvcRule::Heuristic);
@@ -54,8 +51,7 @@ void BM_MvcHeuristic(benchmark::State& state)
     state.counters["nodes"] = double(geo.nodes.size());
 }
 
-void BM_MvcReference(benchmark::State& state)
-{
+void BM_MvcReference(benchmark::State& state) {
     const auto geo = cell_with(int(state.range(0)));
     for (auto _ : state) {
         const auto ci = MeanValueCell(geo).integrate(MvcRule::Reference, 2);
@@ -64,8 +60,7 @@ void BM_MvcReference(benchmark::State& state)
     state.counters["nodes"] = double(geo.nodes.size());
 }
 
-void BM_Harmonic(benchmark::State& state)
-{
+void BM_Harmonic(benchmark::State& state) {
     const auto geo = cell_with(int(state.range(0)));
     Index kernels = 0;
     for (auto _ : state) {
@@ -78,8 +73,7 @@ void BM_Harmonic(benchmark::State& state)
     state.counters["kernels"] = double(kernels);
 }
 
-void sizes(benchmark::internal::Benchmark* b)
-{
+void sizes(benchmark::internal::Benchmark* b) {
     for (int n : { 4, 8, 10, 12, 16, 24, 32, 40 })
         b->Arg(n);
     b->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);

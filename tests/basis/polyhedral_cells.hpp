@@ -18,8 +18,7 @@ namespace polycut::basis::testing {
 
 /// Convex hull of points in convex position (every point a vertex or on an edge/face):
 /// coplanar points form one face, loops ordered outward.
-inline CellGeometry convex_cell(const std::vector<Vec3>& pts)
-{
+inline CellGeometry convex_cell(const std::vector<Vec3>& pts) {
     const std::size_t n = pts.size();
     double size = 0;
     for (const auto& p : pts)
@@ -67,26 +66,25 @@ inline CellGeometry convex_cell(const std::vector<Vec3>& pts)
     return cell;
 }
 
-inline std::vector<Vec3> box_corners(const Vec3& lo, const Vec3& hi)
-{
+inline std::vector<Vec3> box_corners(const Vec3& lo, const Vec3& hi) {
     std::vector<Vec3> p;
     for (int k = 0; k < 8; ++k)
         p.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
     return p;
 }
 
-inline CellGeometry unit_tet()
-{
-    return convex_cell({ Vec3(0.1, 0.0, 0.0), Vec3(1.0, 0.2, 0.1), Vec3(0.3, 0.9, 0.0),
-        Vec3(0.4, 0.3, 1.1) });
+inline CellGeometry unit_tet() {
+    return convex_cell(
+        { Vec3(0.1, 0.0, 0.0), Vec3(1.0, 0.2, 0.1), Vec3(0.3, 0.9, 0.0), Vec3(0.4, 0.3, 1.1) });
 }
 
 /// A 2 x 1.5 x 1 box [m].
-inline CellGeometry cube() { return convex_cell(box_corners(Vec3(0, 0, 0), Vec3(2, 1.5, 1))); }
+inline CellGeometry cube() {
+    return convex_cell(box_corners(Vec3(0, 0, 0), Vec3(2, 1.5, 1)));
+}
 
 /// Unit cube with the corner (1, 1, 1) cut off by x + y + z = 2.5: 10 nodes, 7 faces.
-inline CellGeometry cut_cube()
-{
+inline CellGeometry cut_cube() {
     auto p = box_corners(Vec3(0, 0, 0), Vec3(1, 1, 1));
     p.pop_back();
     p.emplace_back(0.5, 1, 1);
@@ -96,11 +94,10 @@ inline CellGeometry cut_cube()
 }
 
 /// Truncated octahedron: the 24 permutations of (0, +-1, +-2) scaled by 0.5 [m].
-inline CellGeometry truncated_octahedron()
-{
+inline CellGeometry truncated_octahedron() {
     std::vector<Vec3> p;
-    const int perm[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
-        { 2, 1, 0 } };
+    const int perm[6][3]
+        = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
     for (const auto& pr : perm)
         for (int s1 : { -1, 1 })
             for (int s2 : { -1, 1 }) {
@@ -113,8 +110,7 @@ inline CellGeometry truncated_octahedron()
 }
 
 /// Prism over a regular 12-gon of circumradius 1, height 0.7 [m]: 24 nodes.
-inline CellGeometry prism12()
-{
+inline CellGeometry prism12() {
     std::vector<Vec3> p;
     for (int z = 0; z < 2; ++z)
         for (int k = 0; k < 12; ++k) {
@@ -125,8 +121,7 @@ inline CellGeometry prism12()
 }
 
 /// Splits face f of `cell` into two faces along the chord between its nodes a and b.
-inline void split_face(CellGeometry& cell, std::size_t f, Index a, Index b)
-{
+inline void split_face(CellGeometry& cell, std::size_t f, Index a, Index b) {
     auto loop = cell.loops[f];
     const auto ia = std::size_t(std::find(loop.begin(), loop.end(), a) - loop.begin());
     std::rotate(loop.begin(), loop.begin() + long(ia), loop.end());
@@ -141,13 +136,12 @@ inline void split_face(CellGeometry& cell, std::size_t f, Index a, Index b)
 /// Several cells on shared global nodes.
 struct GluedCells {
     std::vector<Vec3> nodes;
-    std::vector<std::vector<Index>> cell_nodes;   ///< global node of each local node
-    std::vector<CellGeometry> cells;              ///< local geometry
+    std::vector<std::vector<Index>> cell_nodes; ///< global node of each local node
+    std::vector<CellGeometry> cells; ///< local geometry
 };
 
 /// Adds a convex cell from global node ids.
-inline void add_convex(GluedCells& g, const std::vector<Index>& ids)
-{
+inline void add_convex(GluedCells& g, const std::vector<Index>& ids) {
     std::vector<Vec3> p;
     for (Index i : ids)
         p.push_back(g.nodes[std::size_t(i)]);
@@ -156,8 +150,7 @@ inline void add_convex(GluedCells& g, const std::vector<Index>& ids)
 }
 
 /// Local index of global node `global` in cell c.
-inline Index local_of(const GluedCells& g, std::size_t c, Index global)
-{
+inline Index local_of(const GluedCells& g, std::size_t c, Index global) {
     const auto& ids = g.cell_nodes[c];
     return Index(std::find(ids.begin(), ids.end(), global) - ids.begin());
 }
@@ -166,14 +159,13 @@ inline Index local_of(const GluedCells& g, std::size_t c, Index global)
 /// face carries collinear nodes at (0.5, 0/1, 0.5) and is itself split into two coplanar quads
 /// along the chord between them; the lower cell has a collinear node at (0.5, 0, 0).
 /// With `three`, the upper cell is split again by y = 0.5 (so a node pair is interior-ish).
-inline GluedCells slanted_split_hex()
-{
+inline GluedCells slanted_split_hex() {
     GluedCells g;
     g.nodes = { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), // 0-3 bottom
-        Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1), Vec3(1, 1, 1),         // 4-7 top
+        Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1), Vec3(1, 1, 1), // 4-7 top
         Vec3(0, 0, 0.3), Vec3(1, 0, 0.7), Vec3(0, 1, 0.3), Vec3(1, 1, 0.7), // 8-11 split
-        Vec3(0.5, 0, 0.5), Vec3(0.5, 1, 0.5),                               // 12-13 collinear
-        Vec3(0.5, 0, 0) };                                                  // 14 collinear
+        Vec3(0.5, 0, 0.5), Vec3(0.5, 1, 0.5), // 12-13 collinear
+        Vec3(0.5, 0, 0) }; // 14 collinear
     add_convex(g, { 0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14 });
     add_convex(g, { 4, 5, 6, 7, 8, 9, 10, 11, 12, 13 });
     // split the shared face in both cells along the chord 12-13 into two coplanar quads
@@ -181,7 +173,8 @@ inline GluedCells slanted_split_hex()
         const Index a = local_of(g, c, 12), b = local_of(g, c, 13);
         for (std::size_t f = 0; f < g.cells[c].loops.size(); ++f) {
             const auto& l = g.cells[c].loops[f];
-            if (l.size() == 6 && std::count(l.begin(), l.end(), a) && std::count(l.begin(), l.end(), b)) {
+            if (l.size() == 6 && std::count(l.begin(), l.end(), a)
+                && std::count(l.begin(), l.end(), b)) {
                 split_face(g.cells[c], f, a, b);
                 break;
             }
@@ -191,8 +184,7 @@ inline GluedCells slanted_split_hex()
 }
 
 /// Non-convex L-shaped prism: L = (0,0) (2,0) (2,1) (1,1) (1,2) (0,2) extruded over z in [0, 1].
-inline CellGeometry l_prism()
-{
+inline CellGeometry l_prism() {
     const double xy[6][2] = { { 0, 0 }, { 2, 0 }, { 2, 1 }, { 1, 1 }, { 1, 2 }, { 0, 2 } };
     CellGeometry c;
     for (int z = 0; z < 2; ++z)
@@ -208,8 +200,7 @@ inline CellGeometry l_prism()
 }
 
 /// Isotropic elasticity matrix (6 x 6), Voigt order xx yy zz xy yz zx, engineering shears.
-inline Eigen::Matrix<double, 6, 6> isotropic_c(double young, double poisson)
-{
+inline Eigen::Matrix<double, 6, 6> isotropic_c(double young, double poisson) {
     const double lambda = young * poisson / ((1 + poisson) * (1 - 2 * poisson));
     const double mu = young / (2 * (1 + poisson));
     Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
@@ -220,8 +211,7 @@ inline Eigen::Matrix<double, 6, 6> isotropic_c(double young, double poisson)
 }
 
 /// Strain-displacement matrix (6 x 3n) from gradients (n x 3).
-inline MatX strain_matrix(const MatX3& grad)
-{
+inline MatX strain_matrix(const MatX3& grad) {
     MatX B = MatX::Zero(6, 3 * grad.rows());
     for (Eigen::Index i = 0; i < grad.rows(); ++i) {
         const double gx = grad(i, 0), gy = grad(i, 1), gz = grad(i, 2);
@@ -239,8 +229,7 @@ inline MatX strain_matrix(const MatX3& grad)
 }
 
 /// Ke = sum_q w_q B_q^T C B_q (3n x 3n).
-inline MatX stiffness(const CellIntegration& ci, const Eigen::Matrix<double, 6, 6>& C)
-{
+inline MatX stiffness(const CellIntegration& ci, const Eigen::Matrix<double, 6, 6>& C) {
     const auto n = ci.gradients.empty() ? 0 : ci.gradients[0].rows();
     MatX K = MatX::Zero(3 * n, 3 * n);
     for (std::size_t q = 0; q < ci.points.size(); ++q) {
@@ -251,15 +240,13 @@ inline MatX stiffness(const CellIntegration& ci, const Eigen::Matrix<double, 6, 
 }
 
 /// Stress (Voigt) of the displacement field u = G x.
-inline Eigen::Matrix<double, 6, 1> stress_of(const Mat3& G, const Eigen::Matrix<double, 6, 6>& C)
-{
+inline Eigen::Matrix<double, 6, 1> stress_of(const Mat3& G, const Eigen::Matrix<double, 6, 6>& C) {
     Eigen::Matrix<double, 6, 1> eps;
     eps << G(0, 0), G(1, 1), G(2, 2), G(0, 1) + G(1, 0), G(1, 2) + G(2, 1), G(2, 0) + G(0, 2);
     return C * eps;
 }
 
-inline Mat3 voigt_to_tensor(const Eigen::Matrix<double, 6, 1>& s)
-{
+inline Mat3 voigt_to_tensor(const Eigen::Matrix<double, 6, 1>& s) {
     Mat3 S;
     S << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
     return S;

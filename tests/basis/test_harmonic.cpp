@@ -3,7 +3,6 @@
 // errors against the paper's 2-3 %, gradients against finite differences, rigid modes of Ke,
 // the patch test, non-convex cells and merged coincident nodes.
 #include "polycut/basis/harmonic.hpp"
-
 #include "polyhedral_cells.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -12,85 +11,80 @@
 
 namespace polycut::basis {
 namespace {
-    using namespace testing;
+using namespace testing;
 
-    struct Named {
-        const char* name;
-        CellGeometry cell;
-    };
+struct Named {
+    const char* name;
+    CellGeometry cell;
+};
 
-    std::vector<Named> cells()
-    {
-        auto split = slanted_split_hex();
-        return { { "tet", unit_tet() }, { "cube", cube() }, { "cut_cube", cut_cube() },
-            { "split_lower", split.cells[0] }, { "split_upper", split.cells[1] },
-            { "truncated_octahedron", truncated_octahedron() }, { "l_prism", l_prism() } };
+std::vector<Named> cells() {
+    auto split = slanted_split_hex();
+    return { { "tet", unit_tet() }, { "cube", cube() }, { "cut_cube", cut_cube() },
+        { "split_lower", split.cells[0] }, { "split_upper", split.cells[1] },
+        { "truncated_octahedron", truncated_octahedron() }, { "l_prism", l_prism() } };
+}
+
+/// Random points inside the cell: rejection sampling in the box against the Gauss points'
+/// star tets is overkill; use random points of the reference rule's tets instead.
+std::vector<Vec3> interior_points(const HarmonicCell& cell, int count, unsigned seed) {
+    const auto ci = cell.integrate({ HarmonicRule::MonteCarlo, 0, count, seed });
+    return ci.points;
+}
+
+/// Triangle rule (Duffy-collapsed Gauss-Legendre, n x n points) on the unit triangle:
+/// barycentric (1 - s - t, s, t) and weights summing to 1.
+std::vector<std::pair<Vec3, double>> triangle_rule(int n) {
+    const auto count = std::size_t(n);
+    std::vector<double> x(count), w(count);
+    // Golub-Welsch for Legendre on [-1, 1]
+    MatX J = MatX::Zero(n, n);
+    for (int k = 1; k < n; ++k)
+        J(k, k - 1) = J(k - 1, k) = k / std::sqrt(4.0 * k * k - 1);
+    Eigen::SelfAdjointEigenSolver<MatX> es(J);
+    for (int k = 0; k < n; ++k) {
+        x[std::size_t(k)] = 0.5 * (1 + es.eigenvalues()[k]);
+        w[std::size_t(k)] = std::pow(es.eigenvectors()(0, k), 2); // sums to 1 on [0, 1]
     }
-
-    /// Random points inside the cell: rejection sampling in the box against the Gauss points'
-    /// star tets is overkill; use random points of the reference rule's tets instead.
-    std::vector<Vec3> interior_points(const HarmonicCell& cell, int count, unsigned seed)
-    {
-        const auto ci = cell.integrate({ HarmonicRule::MonteCarlo, 0, count, seed });
-        return ci.points;
-    }
-
-    /// Triangle rule (Duffy-collapsed Gauss-Legendre, n x n points) on the unit triangle:
-    /// barycentric (1 - s - t, s, t) and weights summing to 1.
-    std::vector<std::pair<Vec3, double>> triangle_rule(int n)
-    {
-        const auto count = std::size_t(n);
-        std::vector<double> x(count), w(count);
-        // Golub-Welsch for Legendre on [-1, 1]
-        MatX J = MatX::Zero(n, n);
-        for (int k = 1; k < n; ++k)
-            J(k, k - 1) = J(k - 1, k) = k / std::sqrt(4.0 * k * k - 1);
-        Eigen::SelfAdjointEigenSolver<MatX> es(J);
-        for (int k = 0; k < n; ++k) {
-            x[std::size_t(k)] = 0.5 * (1 + es.eigenvalues()[k]);
-            w[std::size_t(k)] = std::pow(es.eigenvectors()(0, k), 2); // sums to 1 on [0, 1]
+    std::vector<std::pair<Vec3, double>> out;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const double a = x[std::size_t(i)], b = x[std::size_t(j)];
+            const double s = a * (1 - b), t = b;
+            out.push_back(
+                { Vec3(1 - s - t, s, t), 2.0 * w[std::size_t(i)] * w[std::size_t(j)] * (1 - b) });
         }
-        std::vector<std::pair<Vec3, double>> out;
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j) {
-                const double a = x[std::size_t(i)], b = x[std::size_t(j)];
-                const double s = a * (1 - b), t = b;
-                out.push_back({ Vec3(1 - s - t, s, t), 2.0 * w[std::size_t(i)] * w[std::size_t(j)] * (1 - b) });
-            }
-        return out;
-    }
+    return out;
+}
 
-    /// int over the cell surface of N_i sigma n dA (#n x 3) for a constant stress S, with the
-    /// cell's own 3D functions, by a high-order triangle rule on a fan of each face.
-    MatX3 boundary_forces(const HarmonicCell& cell, const CellGeometry& geo, const Mat3& S)
-    {
-        const auto rule = triangle_rule(12);
-        MatX3 f = MatX3::Zero(cell.num_nodes(), 3);
-        VecX phi;
-        for (const auto& loop : geo.loops)
-            for (std::size_t s = 1; s + 1 < loop.size(); ++s) {
-                const Vec3& a = geo.nodes[std::size_t(loop[0])];
-                const Vec3& b = geo.nodes[std::size_t(loop[s])];
-                const Vec3& c = geo.nodes[std::size_t(loop[s + 1])];
-                const Vec3 an = 0.5 * (b - a).cross(c - a);
-                for (const auto& [bary, w] : rule) {
-                    cell.evaluate(bary[0] * a + bary[1] * b + bary[2] * c, phi);
-                    f += w * phi * (S * an).transpose();
-                }
+/// int over the cell surface of N_i sigma n dA (#n x 3) for a constant stress S, with the
+/// cell's own 3D functions, by a high-order triangle rule on a fan of each face.
+MatX3 boundary_forces(const HarmonicCell& cell, const CellGeometry& geo, const Mat3& S) {
+    const auto rule = triangle_rule(12);
+    MatX3 f = MatX3::Zero(cell.num_nodes(), 3);
+    VecX phi;
+    for (const auto& loop : geo.loops)
+        for (std::size_t s = 1; s + 1 < loop.size(); ++s) {
+            const Vec3& a = geo.nodes[std::size_t(loop[0])];
+            const Vec3& b = geo.nodes[std::size_t(loop[s])];
+            const Vec3& c = geo.nodes[std::size_t(loop[s + 1])];
+            const Vec3 an = 0.5 * (b - a).cross(c - a);
+            for (const auto& [bary, w] : rule) {
+                cell.evaluate(bary[0] * a + bary[1] * b + bary[2] * c, phi);
+                f += w * phi * (S * an).transpose();
             }
-        return f;
-    }
+        }
+    return f;
+}
 
-    Mat3 test_gradient()
-    {
-        Mat3 G;
-        G << 0.01, 0.003, -0.002, 0.004, -0.02, 0.005, 0.001, 0.006, 0.015;
-        return G;
-    }
+Mat3 test_gradient() {
+    Mat3 G;
+    G << 0.01, 0.003, -0.002, 0.004, -0.02, 0.005, 0.001, 0.006, 0.015;
+    return G;
+}
 } // namespace
 
-TEST(Harmonic, PartitionOfUnityAndExactLinearPrecision)
-{
+TEST(Harmonic, PartitionOfUnityAndExactLinearPrecision) {
     for (const auto& [name, geo] : cells()) {
         SCOPED_TRACE(name);
         const HarmonicCell cell(geo);
@@ -107,8 +101,8 @@ TEST(Harmonic, PartitionOfUnityAndExactLinearPrecision)
                 grep += geo.nodes[std::size_t(i)] * grad.row(i);
             }
             worst_val = std::max({ worst_val, std::abs(phi.sum() - 1), (rep - x).norm() / h });
-            worst_grad = std::max({ worst_grad, (grep - Mat3::Identity()).norm(),
-                grad.colwise().sum().norm() * h });
+            worst_grad = std::max(
+                { worst_grad, (grep - Mat3::Identity()).norm(), grad.colwise().sum().norm() * h });
         }
         // 001 sec. 5: the linear term makes reproduction exact, independent of the kernels
         EXPECT_LT(worst_val, 1e-12);
@@ -116,8 +110,7 @@ TEST(Harmonic, PartitionOfUnityAndExactLinearPrecision)
     }
 }
 
-TEST(Harmonic, TetIsP1)
-{
+TEST(Harmonic, TetIsP1) {
     const auto geo = unit_tet();
     const HarmonicCell cell(geo);
     Eigen::Matrix4d A;
@@ -134,8 +127,7 @@ TEST(Harmonic, TetIsP1)
     }
 }
 
-TEST(Harmonic, BoxIsCloseToQ1)
-{
+TEST(Harmonic, BoxIsCloseToQ1) {
     // Trilinear functions are harmonic, so on a box the exact harmonic basis is Q1 (001 sec. 4);
     // the MFS approximation must be close.
     const auto geo = cube(); // [0, 2] x [0, 1.5] x [0, 1]
@@ -156,8 +148,7 @@ TEST(Harmonic, BoxIsCloseToQ1)
     EXPECT_LT(worst, 0.02);
 }
 
-TEST(Harmonic, BoundaryErrorAndKroneckerDelta)
-{
+TEST(Harmonic, BoundaryErrorAndKroneckerDelta) {
     for (const auto& [name, geo] : cells()) {
         const HarmonicCell cell(geo);
         const auto err = cell.boundary_error();
@@ -169,7 +160,8 @@ TEST(Harmonic, BoundaryErrorAndKroneckerDelta)
             e[i] = 1;
             delta = std::max(delta, (phi - e).lpNorm<Eigen::Infinity>());
         }
-        std::printf("harmonic %-22s n=%3d m=%4d  boundary L2 %.3e  max %.3e  |N_i(x_j) - d_ij| %.3e\n",
+        std::printf(
+            "harmonic %-22s n=%3d m=%4d  boundary L2 %.3e  max %.3e  |N_i(x_j) - d_ij| %.3e\n",
             name, cell.num_kernels(), cell.num_collocation(), err.rms, err.max, delta);
         // 001 sec. 5: L2 boundary errors of about 2-3 % with 5 edge samples. The non-convex
         // L prism is worse near its re-entrant edge (the exact functions are singular there).
@@ -180,8 +172,7 @@ TEST(Harmonic, BoundaryErrorAndKroneckerDelta)
     }
 }
 
-TEST(Harmonic, ApproximatelyContinuousAcrossASharedFace)
-{
+TEST(Harmonic, ApproximatelyContinuousAcrossASharedFace) {
     const auto g = slanted_split_hex();
     const HarmonicCell lower(g.cells[0]), upper(g.cells[1]);
     std::mt19937 rng(4);
@@ -213,8 +204,7 @@ TEST(Harmonic, ApproximatelyContinuousAcrossASharedFace)
     EXPECT_LT(worst, 0.1);
 }
 
-TEST(Harmonic, GradientsMatchFiniteDifferences)
-{
+TEST(Harmonic, GradientsMatchFiniteDifferences) {
     for (const auto& [name, geo] : cells()) {
         SCOPED_TRACE(name);
         const HarmonicCell cell(geo);
@@ -236,8 +226,7 @@ TEST(Harmonic, GradientsMatchFiniteDifferences)
     }
 }
 
-TEST(Harmonic, StiffnessIsSymmetricPsdWithSixRigidModes)
-{
+TEST(Harmonic, StiffnessIsSymmetricPsdWithSixRigidModes) {
     const auto C = isotropic_c(1.0, 0.3);
     for (const auto& [name, geo] : cells()) {
         SCOPED_TRACE(name);
@@ -261,8 +250,7 @@ TEST(Harmonic, StiffnessIsSymmetricPsdWithSixRigidModes)
     }
 }
 
-TEST(Harmonic, PatchTestConvergesWithTheRule)
-{
+TEST(Harmonic, PatchTestConvergesWithTheRule) {
     // K u for u = G x must equal the boundary forces int N_i sigma n dA of the same functions:
     // exact in the limit of the rule (the MFS functions are smooth inside the cell).
     const auto C = isotropic_c(1.0, 0.3);
@@ -292,8 +280,7 @@ TEST(Harmonic, PatchTestConvergesWithTheRule)
     }
 }
 
-TEST(Harmonic, GluedPatchTest)
-{
+TEST(Harmonic, GluedPatchTest) {
     // Assembled over the two halves of the split hex, K u for a linear u must equal the forces
     // on the outer boundary; the interior face contributes the C0 mismatch of the two cells.
     const auto g = slanted_split_hex();
@@ -331,8 +318,7 @@ TEST(Harmonic, GluedPatchTest)
     EXPECT_LT(err, 0.05);
 }
 
-TEST(Harmonic, NonConvexCellIntegratesAndKernelsStayOutside)
-{
+TEST(Harmonic, NonConvexCellIntegratesAndKernelsStayOutside) {
     const auto geo = l_prism();
     const HarmonicCell cell(geo);
     EXPECT_NEAR(cell.volume(), 3.0, 1e-14);
@@ -350,13 +336,13 @@ TEST(Harmonic, NonConvexCellIntegratesAndKernelsStayOutside)
     }
     // Monte Carlo against Gauss: lumped volumes agree to the sampling error
     const auto mc = cell.integrate({ HarmonicRule::MonteCarlo, 0, 20000, 3 });
-    const double diff = (mc.lumped_volume - gauss.lumped_volume).norm() / gauss.lumped_volume.norm();
+    const double diff
+        = (mc.lumped_volume - gauss.lumped_volume).norm() / gauss.lumped_volume.norm();
     std::printf("L prism lumped volumes, Monte Carlo (2e4) vs Gauss deg4: %.3e\n", diff);
     EXPECT_LT(diff, 0.03);
 }
 
-TEST(Harmonic, CoincidentNodesShareAJointFunction)
-{
+TEST(Harmonic, CoincidentNodesShareAJointFunction) {
     // A box whose corner 0 is doubled: node 8 sits on node 0 and follows it in every loop.
     auto geo = cube();
     const Index dup = Index(geo.nodes.size());
@@ -378,8 +364,7 @@ TEST(Harmonic, CoincidentNodesShareAJointFunction)
     }
 }
 
-TEST(Harmonic, MeshWrapper)
-{
+TEST(Harmonic, MeshWrapper) {
     const auto geo = l_prism();
     const auto mesh = mesh::Mesh::from_polyhedra(geo.nodes, { geo.loops });
     const auto ci = integrate_harmonic(mesh, 0);

@@ -2,7 +2,6 @@
 // against finite differences, P1 on tets, exact C0 across a shared face, the stiffness matrix's
 // rigid modes, and the patch test of the heuristic rule against the reference rule.
 #include "polycut/basis/mean_value.hpp"
-
 #include "polyhedral_cells.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -11,44 +10,41 @@
 
 namespace polycut::basis {
 namespace {
-    using namespace testing;
+using namespace testing;
 
-    struct Named {
-        const char* name;
-        CellGeometry cell;
-    };
+struct Named {
+    const char* name;
+    CellGeometry cell;
+};
 
-    std::vector<Named> convex_cells()
-    {
-        auto split = slanted_split_hex();
-        return { { "tet", unit_tet() }, { "cube", cube() }, { "cut_cube", cut_cube() },
-            { "split_lower", split.cells[0] }, { "split_upper", split.cells[1] },
-            { "truncated_octahedron", truncated_octahedron() }, { "prism12", prism12() } };
-    }
+std::vector<Named> convex_cells() {
+    auto split = slanted_split_hex();
+    return { { "tet", unit_tet() }, { "cube", cube() }, { "cut_cube", cut_cube() },
+        { "split_lower", split.cells[0] }, { "split_upper", split.cells[1] },
+        { "truncated_octahedron", truncated_octahedron() }, { "prism12", prism12() } };
+}
 
-    /// Random interior points: random convex combinations of the nodes, biased towards one.
-    std::vector<Vec3> interior_points(const CellGeometry& c, int count, unsigned seed)
-    {
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> uni(0.0, 1.0);
-        std::vector<Vec3> out;
-        for (int k = 0; k < count; ++k) {
-            Vec3 x = Vec3::Zero();
-            double sum = 0;
-            for (const auto& p : c.nodes) {
-                const double w = std::pow(uni(rng), 4);
-                x += w * p;
-                sum += w;
-            }
-            out.push_back(x / sum);
+/// Random interior points: random convex combinations of the nodes, biased towards one.
+std::vector<Vec3> interior_points(const CellGeometry& c, int count, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    std::vector<Vec3> out;
+    for (int k = 0; k < count; ++k) {
+        Vec3 x = Vec3::Zero();
+        double sum = 0;
+        for (const auto& p : c.nodes) {
+            const double w = std::pow(uni(rng), 4);
+            x += w * p;
+            sum += w;
         }
-        return out;
+        out.push_back(x / sum);
     }
+    return out;
+}
 
 } // namespace
 
-TEST(MeanValue, PartitionOfUnityLinearPrecisionAndPositivity)
-{
+TEST(MeanValue, PartitionOfUnityLinearPrecisionAndPositivity) {
     for (const auto& [name, geo] : convex_cells()) {
         SCOPED_TRACE(name);
         const MeanValueCell cell(geo);
@@ -66,15 +62,14 @@ TEST(MeanValue, PartitionOfUnityLinearPrecisionAndPositivity)
             }
             EXPECT_LT((rep - x).norm(), 1e-12 * h);
             // gradients lose digits as size / distance-to-surface (points come close here)
-            EXPECT_LT((grep - Mat3::Identity()).norm(), 1e-8);            // sum x_i grad^T = I
-            EXPECT_LT(grad.colwise().sum().norm(), 1e-8 / h);             // sum grad = 0
-            EXPECT_GE(phi.minCoeff(), -1e-15);                            // 000 sec. 3.2
+            EXPECT_LT((grep - Mat3::Identity()).norm(), 1e-8); // sum x_i grad^T = I
+            EXPECT_LT(grad.colwise().sum().norm(), 1e-8 / h); // sum grad = 0
+            EXPECT_GE(phi.minCoeff(), -1e-15); // 000 sec. 3.2
         }
     }
 }
 
-TEST(MeanValue, KroneckerDeltaAtNodesAndBarycentricOnFaces)
-{
+TEST(MeanValue, KroneckerDeltaAtNodesAndBarycentricOnFaces) {
     for (const auto& [name, geo] : convex_cells()) {
         SCOPED_TRACE(name);
         const MeanValueCell cell(geo);
@@ -100,8 +95,7 @@ TEST(MeanValue, KroneckerDeltaAtNodesAndBarycentricOnFaces)
     }
 }
 
-TEST(MeanValue, ApproachesTheFaceLimitContinuously)
-{
+TEST(MeanValue, ApproachesTheFaceLimitContinuously) {
     // Just inside a face (1e-7 of the size, above the 1e-8 switch) the interior formula must
     // agree with the barycentric limit to O(distance).
     const auto geo = cut_cube();
@@ -117,8 +111,7 @@ TEST(MeanValue, ApproachesTheFaceLimitContinuously)
     }
 }
 
-TEST(MeanValue, GradientsMatchFiniteDifferences)
-{
+TEST(MeanValue, GradientsMatchFiniteDifferences) {
     for (const auto& [name, geo] : convex_cells()) {
         SCOPED_TRACE(name);
         const MeanValueCell cell(geo);
@@ -140,8 +133,7 @@ TEST(MeanValue, GradientsMatchFiniteDifferences)
     }
 }
 
-TEST(MeanValue, TetIsP1)
-{
+TEST(MeanValue, TetIsP1) {
     const auto geo = unit_tet();
     const MeanValueCell cell(geo);
     Eigen::Matrix4d A;
@@ -163,8 +155,7 @@ TEST(MeanValue, TetIsP1)
     EXPECT_LT((ci.lumped_volume.array() - cell.volume() / 4).abs().maxCoeff(), 1e-15);
 }
 
-TEST(MeanValue, ExactlyContinuousAcrossASharedFace)
-{
+TEST(MeanValue, ExactlyContinuousAcrossASharedFace) {
     const auto g = slanted_split_hex();
     const MeanValueCell lower(g.cells[0]), upper(g.cells[1]);
     // points on the shared (split, coplanar) face: the plane z = 0.3 + 0.4 x, 0 < y < 1
@@ -199,8 +190,7 @@ TEST(MeanValue, ExactlyContinuousAcrossASharedFace)
     RecordProperty("c0_error_on_face", std::to_string(worst_on));
 }
 
-TEST(MeanValue, StiffnessIsSymmetricPsdWithSixRigidModes)
-{
+TEST(MeanValue, StiffnessIsSymmetricPsdWithSixRigidModes) {
     const auto C = isotropic_c(1.0, 0.3);
     for (const auto& [name, geo] : convex_cells()) {
         SCOPED_TRACE(name);
@@ -228,38 +218,36 @@ TEST(MeanValue, StiffnessIsSymmetricPsdWithSixRigidModes)
 }
 
 namespace {
-    /// Exact consistent nodal forces of the constant stress S on the cell surface: mean value
-    /// coordinates are linear on each surface triangle, so int_T phi_i dA = A_T / 3.
-    MatX3 exact_boundary_forces(const MeanValueCell& cell, const Mat3& S)
-    {
-        MatX3 f = MatX3::Zero(cell.num_nodes(), 3);
-        for (const auto& t : cell.triangles()) {
-            const Vec3& a = cell.nodes()[std::size_t(t.nodes[0])];
-            const Vec3 an = 0.5 * (cell.nodes()[std::size_t(t.nodes[1])] - a)
-                                      .cross(cell.nodes()[std::size_t(t.nodes[2])] - a);
-            for (Index v : t.nodes)
-                f.row(v) += (S * an / 3.0).transpose();
-        }
-        return f;
+/// Exact consistent nodal forces of the constant stress S on the cell surface: mean value
+/// coordinates are linear on each surface triangle, so int_T phi_i dA = A_T / 3.
+MatX3 exact_boundary_forces(const MeanValueCell& cell, const Mat3& S) {
+    MatX3 f = MatX3::Zero(cell.num_nodes(), 3);
+    for (const auto& t : cell.triangles()) {
+        const Vec3& a = cell.nodes()[std::size_t(t.nodes[0])];
+        const Vec3 an = 0.5
+            * (cell.nodes()[std::size_t(t.nodes[1])] - a)
+                  .cross(cell.nodes()[std::size_t(t.nodes[2])] - a);
+        for (Index v : t.nodes)
+            f.row(v) += (S * an / 3.0).transpose();
     }
+    return f;
+}
 
-    double patch_error(const MeanValueCell& cell, MvcRule rule, int degree)
-    {
-        const auto C = isotropic_c(1.0, 0.3);
-        Mat3 G;
-        G << 0.01, 0.003, -0.002, 0.004, -0.02, 0.005, 0.001, 0.006, 0.015;
-        const MatX K = stiffness(cell.integrate(rule, degree), C);
-        MatX3 u(cell.num_nodes(), 3);
-        for (Index i = 0; i < cell.num_nodes(); ++i)
-            u.row(i) = (G * cell.nodes()[std::size_t(i)]).transpose();
-        VecX f = K * flat(u);
-        const MatX3 fe = exact_boundary_forces(cell, voigt_to_tensor(stress_of(G, C)));
-        return (f - flat(fe)).norm() / flat(fe).norm();
-    }
+double patch_error(const MeanValueCell& cell, MvcRule rule, int degree) {
+    const auto C = isotropic_c(1.0, 0.3);
+    Mat3 G;
+    G << 0.01, 0.003, -0.002, 0.004, -0.02, 0.005, 0.001, 0.006, 0.015;
+    const MatX K = stiffness(cell.integrate(rule, degree), C);
+    MatX3 u(cell.num_nodes(), 3);
+    for (Index i = 0; i < cell.num_nodes(); ++i)
+        u.row(i) = (G * cell.nodes()[std::size_t(i)]).transpose();
+    VecX f = K * flat(u);
+    const MatX3 fe = exact_boundary_forces(cell, voigt_to_tensor(stress_of(G, C)));
+    return (f - flat(fe)).norm() / flat(fe).norm();
+}
 } // namespace
 
-TEST(MeanValue, PatchTestHeuristicAgainstReference)
-{
+TEST(MeanValue, PatchTestHeuristicAgainstReference) {
     // A linear displacement field must produce the consistent boundary forces of its constant
     // stress. The reference rule converges with the degree; the heuristic has an O(1) error
     // that is reported (000 sec. 3.4 claims no tangible difference in behaviour).
@@ -280,8 +268,7 @@ TEST(MeanValue, PatchTestHeuristicAgainstReference)
     }
 }
 
-TEST(MeanValue, GluedPatchTest)
-{
+TEST(MeanValue, GluedPatchTest) {
     // Two glued cells: interior-face forces cancel exactly for an exact rule (C0 basis), so the
     // assembled K u equals the forces on the outer boundary. Heuristic error reported.
     const auto g = slanted_split_hex();
@@ -326,8 +313,7 @@ TEST(MeanValue, GluedPatchTest)
     }
 }
 
-TEST(MeanValue, MeshWrapperUsesCellNodeOrder)
-{
+TEST(MeanValue, MeshWrapperUsesCellNodeOrder) {
     auto g = slanted_split_hex();
     std::vector<std::vector<std::vector<Index>>> cells;
     for (std::size_t c = 0; c < g.cells.size(); ++c) {

@@ -11,8 +11,7 @@
 
 namespace polycut::basis {
 
-CellGeometry cell_geometry(const mesh::Mesh& mesh, Index cell)
-{
+CellGeometry cell_geometry(const mesh::Mesh& mesh, Index cell) {
     const auto& c = mesh.cells[std::size_t(cell)];
     CellGeometry out;
     std::unordered_map<Index, Index> local;
@@ -34,17 +33,15 @@ CellGeometry cell_geometry(const mesh::Mesh& mesh, Index cell)
     return out;
 }
 
-double cell_size(const std::vector<Vec3>& nodes)
-{
+double cell_size(const std::vector<Vec3>& nodes) {
     geometry::Aabb box;
     for (const auto& p : nodes)
         box.extend(p);
     return box.diagonal();
 }
 
-std::vector<SurfaceTriangle> fan_triangulation(const std::vector<Vec3>& nodes,
-    const std::vector<std::vector<Index>>& loops, double area_tol)
-{
+std::vector<SurfaceTriangle> fan_triangulation(
+    const std::vector<Vec3>& nodes, const std::vector<std::vector<Index>>& loops, double area_tol) {
     std::vector<SurfaceTriangle> tris;
     for (std::size_t f = 0; f < loops.size(); ++f) {
         const auto& loop = loops[f];

@@ -3,7 +3,6 @@
 // (eq. 12), fitted in the least-squares sense (eq. 13-14) to Dirichlet data that are the faces'
 // 2D harmonic coordinates (harmonic_face.cpp), linear on the edges and delta at the nodes.
 #include "harmonic_detail.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
@@ -14,39 +13,36 @@
 
 namespace polycut::basis {
 
-
 namespace {
-    Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c)
-    {
-        // Ericson, Real-Time Collision Detection, sec. 5.1.5.
-        const Vec3 ab = b - a, ac = c - a, ap = p - a;
-        const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-        if (d1 <= 0 && d2 <= 0)
-            return a;
-        const Vec3 bp = p - b;
-        const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-        if (d3 >= 0 && d4 <= d3)
-            return b;
-        const double vc = d1 * d4 - d3 * d2;
-        if (vc <= 0 && d1 >= 0 && d3 <= 0)
-            return a + d1 / (d1 - d3) * ab;
-        const Vec3 cp = p - c;
-        const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-        if (d6 >= 0 && d5 <= d6)
-            return c;
-        const double vb = d5 * d2 - d1 * d6;
-        if (vb <= 0 && d2 >= 0 && d6 <= 0)
-            return a + d2 / (d2 - d6) * ac;
-        const double va = d3 * d6 - d5 * d4;
-        if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-            return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-        const double denom = 1.0 / (va + vb + vc);
-        return a + ab * (vb * denom) + ac * (vc * denom);
-    }
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    // Ericson, Real-Time Collision Detection, sec. 5.1.5.
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0)
+        return a;
+    const Vec3 bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3)
+        return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return a + d1 / (d1 - d3) * ab;
+    const Vec3 cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6)
+        return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0)
+        return a + d2 / (d2 - d6) * ac;
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+    const double denom = 1.0 / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
 } // namespace
 
-double HarmonicCell::Impl::winding(const Vec3& p) const
-{
+double HarmonicCell::Impl::winding(const Vec3& p) const {
     // Sum of signed solid angles (van Oosterom & Strackee 1983) / 4 pi: 1 inside, 0 outside.
     double omega = 0;
     for (const auto& t : triangles) {
@@ -54,14 +50,14 @@ double HarmonicCell::Impl::winding(const Vec3& p) const
         const Vec3 b = group_pos[std::size_t(t.nodes[1])] - p;
         const Vec3 c = group_pos[std::size_t(t.nodes[2])] - p;
         const double la = a.norm(), lb = b.norm(), lc = c.norm();
-        omega += 2 * std::atan2(a.dot(b.cross(c)),
-                     la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+        omega += 2
+            * std::atan2(
+                a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
     }
     return omega / (4 * std::numbers::pi);
 }
 
-double HarmonicCell::Impl::surface_distance(const Vec3& p) const
-{
+double HarmonicCell::Impl::surface_distance(const Vec3& p) const {
     double best = std::numeric_limits<double>::infinity();
     for (const auto& t : triangles)
         best = std::min(best,
@@ -72,19 +68,16 @@ double HarmonicCell::Impl::surface_distance(const Vec3& p) const
     return best;
 }
 
-double HarmonicCell::Impl::max_plane_distance(const Vec3& p) const
-{
+double HarmonicCell::Impl::max_plane_distance(const Vec3& p) const {
     double best = -std::numeric_limits<double>::infinity();
     for (std::size_t t = 0; t < triangles.size(); ++t)
-        best = std::max(best,
-            (p - group_pos[std::size_t(triangles[t].nodes[0])]).dot(tri_normal[t]));
+        best = std::max(
+            best, (p - group_pos[std::size_t(triangles[t].nodes[0])]).dot(tri_normal[t]));
     return best;
 }
 
 HarmonicCell::HarmonicCell(const CellGeometry& cell, const HarmonicOptions& options)
-    : HarmonicCell(cell.nodes, cell.loops, options)
-{
-}
+    : HarmonicCell(cell.nodes, cell.loops, options) { }
 
 HarmonicCell::~HarmonicCell() = default;
 HarmonicCell::HarmonicCell(HarmonicCell&&) noexcept = default;
@@ -92,8 +85,7 @@ HarmonicCell& HarmonicCell::operator=(HarmonicCell&&) noexcept = default;
 
 HarmonicCell::HarmonicCell(std::vector<Vec3> nodes, const std::vector<std::vector<Index>>& loops,
     const HarmonicOptions& options)
-    : m_impl(std::make_unique<Impl>())
-{
+    : m_impl(std::make_unique<Impl>()) {
     Impl& c = *m_impl;
     c.options = options;
     c.nodes = std::move(nodes);
@@ -173,7 +165,8 @@ HarmonicCell::HarmonicCell(std::vector<Vec3> nodes, const std::vector<std::vecto
             vertex_normal[std::size_t(g)] += c.faces[f].normal();
     double mean_edge = 0;
     for (const auto& [e, fs] : edges)
-        mean_edge += (c.group_pos[std::size_t(e.second)] - c.group_pos[std::size_t(e.first)]).norm();
+        mean_edge
+            += (c.group_pos[std::size_t(e.second)] - c.group_pos[std::size_t(e.first)]).norm();
     mean_edge /= double(std::max<std::size_t>(edges.size(), 1));
 
     // 001 eq. 12: kernel centres = boundary samples + xi * size * normal, size = 1 in scaled
@@ -207,12 +200,15 @@ HarmonicCell::HarmonicCell(std::vector<Vec3> nodes, const std::vector<std::vecto
             n += c.faces[std::size_t(f)].normal();
         for (int j = 1; j <= ne; ++j) {
             const double t = double(j) / (ne + 1);
-            place((1 - t) * c.group_pos[std::size_t(e.first)] + t * c.group_pos[std::size_t(e.second)], n);
+            place((1 - t) * c.group_pos[std::size_t(e.first)]
+                    + t * c.group_pos[std::size_t(e.second)],
+                n);
         }
     }
     const double hk = mean_edge / (ne + 1); // kernel spacing [m]
     for (const auto& face : c.faces)
-        for (const auto& q : detail::polygon_grid(face.polygon(), hk / face.scale(), 0.5 * hk / face.scale()))
+        for (const auto& q :
+            detail::polygon_grid(face.polygon(), hk / face.scale(), 0.5 * hk / face.scale()))
             place(face.to_3d(q), face.normal());
 
     // 001 eq. 13-14: collocation points at ~ratio x the kernel density with Dirichlet data:
@@ -233,14 +229,16 @@ HarmonicCell::HarmonicCell(std::vector<Vec3> nodes, const std::vector<std::vecto
     for (const auto& [e, fs] : edges)
         for (int j = 1; j <= mc; ++j) {
             const double t = double(j) / (mc + 1);
-            colloc.push_back((1 - t) * c.group_pos[std::size_t(e.first)] + t * c.group_pos[std::size_t(e.second)]);
+            colloc.push_back((1 - t) * c.group_pos[std::size_t(e.first)]
+                + t * c.group_pos[std::size_t(e.second)]);
             edge_of.push_back({ e.first, e.second });
             t_of.push_back(t);
             face_of.push_back(kNone);
         }
     for (std::size_t f = 0; f < c.faces.size(); ++f) {
         const auto& face = c.faces[f];
-        for (const auto& q : detail::polygon_grid(face.polygon(), hc / face.scale(), 0.5 * hc / face.scale())) {
+        for (const auto& q :
+            detail::polygon_grid(face.polygon(), hc / face.scale(), 0.5 * hc / face.scale())) {
             colloc.push_back(face.to_3d(q));
             edge_of.push_back({ kNone, kNone });
             t_of.push_back(0);
@@ -282,8 +280,7 @@ HarmonicCell::HarmonicCell(std::vector<Vec3> nodes, const std::vector<std::vecto
         throw MeshError(kNone, kNone, "harmonic cell: singular collocation system");
 }
 
-void HarmonicCell::Impl::evaluate_groups(const Vec3& x, VecX& phi, MatX3* grad) const
-{
+void HarmonicCell::Impl::evaluate_groups(const Vec3& x, VecX& phi, MatX3* grad) const {
     const Vec3 y = scaled(x);
     const Index n = Index(kernels.size());
     thread_local VecX psi;
@@ -306,15 +303,13 @@ void HarmonicCell::Impl::evaluate_groups(const Vec3& x, VecX& phi, MatX3* grad) 
     grad->noalias() = coef.transpose() * dpsi;
 }
 
-void HarmonicCell::Impl::to_nodes(const VecX& g, VecX& phi) const
-{
+void HarmonicCell::Impl::to_nodes(const VecX& g, VecX& phi) const {
     phi.resize(Index(nodes.size()));
     for (std::size_t i = 0; i < nodes.size(); ++i)
         phi[Index(i)] = share[i] * g[group[i]];
 }
 
-void HarmonicCell::evaluate(const Vec3& x, VecX& phi, MatX3* grad) const
-{
+void HarmonicCell::evaluate(const Vec3& x, VecX& phi, MatX3* grad) const {
     const Impl& c = *m_impl;
     thread_local VecX g;
     thread_local MatX3 gg;
@@ -327,8 +322,7 @@ void HarmonicCell::evaluate(const Vec3& x, VecX& phi, MatX3* grad) const
     }
 }
 
-void HarmonicCell::boundary_values(Index face, const Vec3& x, VecX& b) const
-{
+void HarmonicCell::boundary_values(Index face, const Vec3& x, VecX& b) const {
     const Impl& c = *m_impl;
     VecX g = VecX::Zero(Index(c.group_pos.size()));
     const Index f = c.face_of_loop.at(std::size_t(face));
@@ -342,11 +336,23 @@ void HarmonicCell::boundary_values(Index face, const Vec3& x, VecX& b) const
     c.to_nodes(g, b);
 }
 
-Index HarmonicCell::num_nodes() const { return Index(m_impl->nodes.size()); }
-const std::vector<Vec3>& HarmonicCell::nodes() const { return m_impl->nodes; }
-Index HarmonicCell::num_kernels() const { return Index(m_impl->kernels.size()); }
-Index HarmonicCell::num_collocation() const { return m_impl->num_collocation; }
-double HarmonicCell::volume() const { return m_impl->volume; }
-double HarmonicCell::size() const { return m_impl->size; }
+Index HarmonicCell::num_nodes() const {
+    return Index(m_impl->nodes.size());
+}
+const std::vector<Vec3>& HarmonicCell::nodes() const {
+    return m_impl->nodes;
+}
+Index HarmonicCell::num_kernels() const {
+    return Index(m_impl->kernels.size());
+}
+Index HarmonicCell::num_collocation() const {
+    return m_impl->num_collocation;
+}
+double HarmonicCell::volume() const {
+    return m_impl->volume;
+}
+double HarmonicCell::size() const {
+    return m_impl->size;
+}
 
 } // namespace polycut::basis

@@ -35,9 +35,9 @@ public:
 private:
     Vec3 m_origin, m_e1, m_e2, m_normal;
     double m_scale = 1;
-    std::vector<Vec2> m_poly;   ///< scaled 2D vertices (#k), counter-clockwise
+    std::vector<Vec2> m_poly; ///< scaled 2D vertices (#k), counter-clockwise
     std::vector<Vec2> m_kernel; ///< kernel centres (#n)
-    MatX m_coef;                ///< (n + 3) x k
+    MatX m_coef; ///< (n + 3) x k
 };
 
 /// Polygon helpers in 2D (counter-clockwise loops).
@@ -54,20 +54,20 @@ namespace polycut::basis {
 struct HarmonicCell::Impl {
     HarmonicOptions options;
     std::vector<Vec3> nodes;
-    std::vector<Index> group;       ///< node -> joint basis function (coincident nodes merged)
-    std::vector<double> share;      ///< node's share of its group's function (1 / group size)
-    std::vector<Vec3> group_pos;    ///< (#g) [m]
+    std::vector<Index> group; ///< node -> joint basis function (coincident nodes merged)
+    std::vector<double> share; ///< node's share of its group's function (1 / group size)
+    std::vector<Vec3> group_pos; ///< (#g) [m]
     std::vector<std::vector<Index>> loops; ///< group loops, consecutive duplicates removed
-    std::vector<Index> face_of_loop;       ///< input loop -> faces index, kNone if degenerate
+    std::vector<Index> face_of_loop; ///< input loop -> faces index, kNone if degenerate
     std::vector<detail::HarmonicFace> faces;
     std::vector<std::vector<Index>> face_groups; ///< group ids of each kept face's vertices
-    std::vector<SurfaceTriangle> triangles;      ///< fan of the group loops (group ids)
-    std::vector<Vec3> tri_normal;                ///< unit outward normals
+    std::vector<SurfaceTriangle> triangles; ///< fan of the group loops (group ids)
+    std::vector<Vec3> tri_normal; ///< unit outward normals
     bool convex = true;
     double volume = 0, size = 0;
     Vec3 centroid = Vec3::Zero();
     std::vector<Vec3> kernels; ///< kernel centres in scaled coordinates (x - centroid) / size
-    MatX coef;                 ///< (n + 4) x g
+    MatX coef; ///< (n + 4) x g
     Index num_collocation = 0;
 
     Vec3 scaled(const Vec3& x) const { return (x - centroid) / size; }

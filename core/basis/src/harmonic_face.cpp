@@ -2,7 +2,6 @@
 // eq. 11-14 with psi(r) = log r): they are the Dirichlet data of the 3D harmonic basis on each
 // face, and are themselves fitted to piecewise linear data on the edges.
 #include "harmonic_detail.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
@@ -13,8 +12,7 @@
 
 namespace polycut::basis::detail {
 
-bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p)
-{
+bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
     bool in = false;
     for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
         const Vec2& a = poly[i];
@@ -26,8 +24,7 @@ bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p)
     return in;
 }
 
-double distance_to_polygon(const std::vector<Vec2>& poly, const Vec2& p)
-{
+double distance_to_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < poly.size(); ++i) {
         const Vec2& a = poly[i];
@@ -39,8 +36,7 @@ double distance_to_polygon(const std::vector<Vec2>& poly, const Vec2& p)
     return best;
 }
 
-std::vector<Vec2> polygon_grid(const std::vector<Vec2>& poly, double h, double margin)
-{
+std::vector<Vec2> polygon_grid(const std::vector<Vec2>& poly, double h, double margin) {
     Vec2 lo = poly[0], hi = poly[0];
     for (const auto& p : poly) {
         lo = lo.cwiseMin(p);
@@ -60,8 +56,7 @@ std::vector<Vec2> polygon_grid(const std::vector<Vec2>& poly, double h, double m
     return out;
 }
 
-MatX solve_mfs(const MatX& A, const MatX& B, const MatX& X, Index num_kernels)
-{
+MatX solve_mfs(const MatX& A, const MatX& B, const MatX& X, Index num_kernels) {
     // Blocked Householder QR (001 eq. 14: "QR factorization"); kernels are placed at least a
     // fraction of their spacing apart, so the columns stay independent. A column-pivoted QR
     // takes over if the result is not finite.
@@ -81,8 +76,7 @@ MatX solve_mfs(const MatX& A, const MatX& B, const MatX& X, Index num_kernels)
     return coef;
 }
 
-HarmonicFace::HarmonicFace(const std::vector<Vec3>& loop, const HarmonicOptions& options)
-{
+HarmonicFace::HarmonicFace(const std::vector<Vec3>& loop, const HarmonicOptions& options) {
     const std::size_t k = loop.size();
     m_normal = geometry::polygon_normal(loop);
     m_origin = geometry::polygon_centroid(loop);
@@ -161,19 +155,16 @@ HarmonicFace::HarmonicFace(const std::vector<Vec3>& loop, const HarmonicOptions&
     m_coef = solve_mfs(A, B, X, n);
 }
 
-Vec2 HarmonicFace::to_2d(const Vec3& x) const
-{
+Vec2 HarmonicFace::to_2d(const Vec3& x) const {
     const Vec3 d = (x - m_origin) / m_scale;
     return { d.dot(m_e1), d.dot(m_e2) };
 }
 
-Vec3 HarmonicFace::to_3d(const Vec2& q) const
-{
+Vec3 HarmonicFace::to_3d(const Vec2& q) const {
     return m_origin + m_scale * (q.x() * m_e1 + q.y() * m_e2);
 }
 
-void HarmonicFace::evaluate(const Vec3& x, Eigen::Ref<VecX> out) const
-{
+void HarmonicFace::evaluate(const Vec3& x, Eigen::Ref<VecX> out) const {
     const Vec2 q = to_2d(x);
     const Index n = Index(m_kernel.size());
     VecX psi(n + 3);

@@ -2,85 +2,85 @@
 // (from the centroid, or for non-convex cells from a point that sees every surface triangle),
 // or Monte Carlo for comparison; and the boundary error of the MFS fit (001 sec. 5).
 #include "harmonic_detail.hpp"
-#include "star_rule.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/geometry/polyhedron.hpp"
+#include "star_rule.hpp"
 
 #include <random>
 
 namespace polycut::basis {
 namespace {
-    /// Smallest signed distance from p to the planes of the outward triangles (positive: p
-    /// sees every triangle from inside, so the star tets from p are all positive).
-    double star_margin(const std::vector<Vec3>& pos, const std::vector<SurfaceTriangle>& tris,
-        const Vec3& p)
-    {
-        double m = std::numeric_limits<double>::infinity();
-        for (const auto& t : tris) {
-            const Vec3& a = pos[std::size_t(t.nodes[0])];
-            const Vec3 n = (pos[std::size_t(t.nodes[1])] - a).cross(pos[std::size_t(t.nodes[2])] - a).normalized();
-            m = std::min(m, (a - p).dot(n));
-        }
-        return m;
+/// Smallest signed distance from p to the planes of the outward triangles (positive: p
+/// sees every triangle from inside, so the star tets from p are all positive).
+double star_margin(
+    const std::vector<Vec3>& pos, const std::vector<SurfaceTriangle>& tris, const Vec3& p) {
+    double m = std::numeric_limits<double>::infinity();
+    for (const auto& t : tris) {
+        const Vec3& a = pos[std::size_t(t.nodes[0])];
+        const Vec3 n = (pos[std::size_t(t.nodes[1])] - a)
+                           .cross(pos[std::size_t(t.nodes[2])] - a)
+                           .normalized();
+        m = std::min(m, (a - p).dot(n));
     }
+    return m;
+}
 
-    /// A point of the kernel (the region that sees the whole surface), maximizing star_margin:
-    /// the centroid if it is well inside, else a grid search refined by pattern search.
-    Vec3 star_point(const std::vector<Vec3>& pos, const std::vector<SurfaceTriangle>& tris,
-        const Vec3& centroid, double size)
-    {
-        if (star_margin(pos, tris, centroid) > 0.05 * size)
-            return centroid;
-        geometry::Aabb box;
-        for (const auto& p : pos)
-            box.extend(p);
-        Vec3 best = centroid;
-        double best_m = star_margin(pos, tris, centroid);
-        const int g = 8;
-        for (int i = 0; i <= g; ++i)
-            for (int j = 0; j <= g; ++j)
-                for (int k = 0; k <= g; ++k) {
-                    const Vec3 p = box.lo + box.extent().cwiseProduct(Vec3(i, j, k) / g);
-                    const double m = star_margin(pos, tris, p);
-                    if (m > best_m) {
-                        best_m = m;
-                        best = p;
-                    }
+/// A point of the kernel (the region that sees the whole surface), maximizing star_margin:
+/// the centroid if it is well inside, else a grid search refined by pattern search.
+Vec3 star_point(const std::vector<Vec3>& pos, const std::vector<SurfaceTriangle>& tris,
+    const Vec3& centroid, double size) {
+    if (star_margin(pos, tris, centroid) > 0.05 * size)
+        return centroid;
+    geometry::Aabb box;
+    for (const auto& p : pos)
+        box.extend(p);
+    Vec3 best = centroid;
+    double best_m = star_margin(pos, tris, centroid);
+    const int g = 8;
+    for (int i = 0; i <= g; ++i)
+        for (int j = 0; j <= g; ++j)
+            for (int k = 0; k <= g; ++k) {
+                const Vec3 p = box.lo + box.extent().cwiseProduct(Vec3(i, j, k) / g);
+                const double m = star_margin(pos, tris, p);
+                if (m > best_m) {
+                    best_m = m;
+                    best = p;
                 }
-        for (double step = 0.5 * size / g; step > 1e-4 * size; step *= 0.5) {
-            bool moved = true;
-            while (moved) {
-                moved = false;
-                for (int d = 0; d < 6; ++d) {
-                    Vec3 p = best;
-                    p[d / 2] += d % 2 ? step : -step;
-                    const double m = star_margin(pos, tris, p);
-                    if (m > best_m) {
-                        best_m = m;
-                        best = p;
-                        moved = true;
-                    }
+            }
+    for (double step = 0.5 * size / g; step > 1e-4 * size; step *= 0.5) {
+        bool moved = true;
+        while (moved) {
+            moved = false;
+            for (int d = 0; d < 6; ++d) {
+                Vec3 p = best;
+                p[d / 2] += d % 2 ? step : -step;
+                const double m = star_margin(pos, tris, p);
+                if (m > best_m) {
+                    best_m = m;
+                    best = p;
+                    moved = true;
                 }
             }
         }
-        if (!(best_m > 1e-9 * size))
-            throw MeshError(kNone, kNone,
-                "harmonic cell is not star-shaped; no tetrahedralization point for integration");
-        return best;
     }
+    if (!(best_m > 1e-9 * size))
+        throw MeshError(kNone, kNone,
+            "harmonic cell is not star-shaped; no tetrahedralization point for integration");
+    return best;
+}
 } // namespace
 
-CellIntegration HarmonicCell::integrate(const HarmonicIntegration& integration) const
-{
+CellIntegration HarmonicCell::integrate(const HarmonicIntegration& integration) const {
     const Impl& c = *m_impl;
     CellIntegration out;
     if (integration.rule == HarmonicRule::Gauss) {
         std::vector<std::array<Index, 3>> tris;
         for (const auto& t : c.triangles)
             tris.push_back(t.nodes);
-        const Vec3 apex = c.convex ? c.centroid : star_point(c.group_pos, c.triangles, c.centroid, c.size);
-        detail::star_rule(c.group_pos, tris, apex, integration.gauss_degree, out.points, out.weights);
+        const Vec3 apex
+            = c.convex ? c.centroid : star_point(c.group_pos, c.triangles, c.centroid, c.size);
+        detail::star_rule(
+            c.group_pos, tris, apex, integration.gauss_degree, out.points, out.weights);
     } else {
         if (integration.monte_carlo_samples < 1)
             throw InputError("/monte_carlo_samples", "must be positive");
@@ -107,8 +107,7 @@ CellIntegration HarmonicCell::integrate(const HarmonicIntegration& integration) 
     return out;
 }
 
-HarmonicBoundaryError HarmonicCell::boundary_error(int per_edge) const
-{
+HarmonicBoundaryError HarmonicCell::boundary_error(int per_edge) const {
     const Impl& c = *m_impl;
     const std::size_t ng = c.group_pos.size();
     double sum_err = 0, sum_data = 0, worst = 0;
@@ -134,7 +133,8 @@ HarmonicBoundaryError HarmonicCell::boundary_error(int per_edge) const
                 b = VecX::Zero(Index(ng));
                 b[a] += 1 - t;
                 b[e] += t;
-                accumulate((1 - t) * c.group_pos[std::size_t(a)] + t * c.group_pos[std::size_t(e)], b);
+                accumulate(
+                    (1 - t) * c.group_pos[std::size_t(a)] + t * c.group_pos[std::size_t(e)], b);
             }
         }
     }
@@ -160,14 +160,12 @@ HarmonicBoundaryError HarmonicCell::boundary_error(int per_edge) const
 
 CellIntegration integrate_harmonic(const std::vector<Vec3>& nodes,
     const std::vector<std::vector<Index>>& loops, const HarmonicIntegration& integration,
-    const HarmonicOptions& options)
-{
+    const HarmonicOptions& options) {
     return HarmonicCell(nodes, loops, options).integrate(integration);
 }
 
 CellIntegration integrate_harmonic(const mesh::Mesh& mesh, Index cell,
-    const HarmonicIntegration& integration, const HarmonicOptions& options)
-{
+    const HarmonicIntegration& integration, const HarmonicOptions& options) {
     try {
         return HarmonicCell(cell_geometry(mesh, cell), options).integrate(integration);
     } catch (const MeshError& e) {

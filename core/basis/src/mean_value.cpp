@@ -14,30 +14,26 @@
 
 namespace polycut::basis {
 namespace {
-    // The interior formula stays accurate for values very close to a face (the near-singular
-    // determinant scales all weights of the dominant triangle alike), so the barycentric limit
-    // is only taken within 1e-12 of the size. Gradients lose digits as size / distance in the
-    // normalization, so within 1e-7 they are taken at a point moved towards the centroid.
-    constexpr double kSurfaceTol = 1e-12; ///< relative distance below which x is on the surface
-    constexpr double kGradientTol = 1e-7;  ///< relative distance below which gradients move
-    constexpr double kGradientPush = 1e-6; ///< first relative move towards the centroid
+// The interior formula stays accurate for values very close to a face (the near-singular
+// determinant scales all weights of the dominant triangle alike), so the barycentric limit
+// is only taken within 1e-12 of the size. Gradients lose digits as size / distance in the
+// normalization, so within 1e-7 they are taken at a point moved towards the centroid.
+constexpr double kSurfaceTol = 1e-12; ///< relative distance below which x is on the surface
+constexpr double kGradientTol = 1e-7; ///< relative distance below which gradients move
+constexpr double kGradientPush = 1e-6; ///< first relative move towards the centroid
 
-    Mat3 skew(const Vec3& e)
-    {
-        Mat3 s;
-        s << 0, -e.z(), e.y(), e.z(), 0, -e.x(), -e.y(), e.x(), 0;
-        return s;
-    }
+Mat3 skew(const Vec3& e) {
+    Mat3 s;
+    s << 0, -e.z(), e.y(), e.z(), 0, -e.x(), -e.y(), e.x(), 0;
+    return s;
+}
 } // namespace
 
 MeanValueCell::MeanValueCell(const CellGeometry& cell)
-    : MeanValueCell(cell.nodes, cell.loops)
-{
-}
+    : MeanValueCell(cell.nodes, cell.loops) { }
 
 MeanValueCell::MeanValueCell(std::vector<Vec3> nodes, const std::vector<std::vector<Index>>& loops)
-    : m_nodes(std::move(nodes))
-{
+    : m_nodes(std::move(nodes)) {
     if (m_nodes.size() < 4)
         throw MeshError(kNone, kNone, "a mean value cell needs at least 4 nodes");
     for (std::size_t f = 0; f < loops.size(); ++f) {
@@ -55,15 +51,14 @@ MeanValueCell::MeanValueCell(std::vector<Vec3> nodes, const std::vector<std::vec
     m_triangles = fan_triangulation(m_nodes, loops, 1e-14 * m_size * m_size);
     for (const auto& t : m_triangles) {
         const Vec3& a = m_nodes[std::size_t(t.nodes[0])];
-        const Vec3 cr = (m_nodes[std::size_t(t.nodes[1])] - a)
-                            .cross(m_nodes[std::size_t(t.nodes[2])] - a);
+        const Vec3 cr
+            = (m_nodes[std::size_t(t.nodes[1])] - a).cross(m_nodes[std::size_t(t.nodes[2])] - a);
         m_tri_area.push_back(0.5 * cr.norm());
         m_tri_normal.push_back(cr.normalized());
     }
 }
 
-bool MeanValueCell::evaluate_on_surface(const Vec3& x, VecX& phi, double rel_tol) const
-{
+bool MeanValueCell::evaluate_on_surface(const Vec3& x, VecX& phi, double rel_tol) const {
     const double tol = rel_tol * m_size;
     double best_dist = tol;
     std::size_t best = m_triangles.size();
@@ -105,8 +100,7 @@ bool MeanValueCell::evaluate_on_surface(const Vec3& x, VecX& phi, double rel_tol
     return true;
 }
 
-void MeanValueCell::evaluate(const Vec3& x, VecX& phi, MatX3* grad) const
-{
+void MeanValueCell::evaluate(const Vec3& x, VecX& phi, MatX3* grad) const {
     const bool near = evaluate_on_surface(x, phi, grad ? kGradientTol : kSurfaceTol);
     if (!near) {
         evaluate_interior(x, phi, grad);
@@ -129,8 +123,7 @@ void MeanValueCell::evaluate(const Vec3& x, VecX& phi, MatX3* grad) const
     evaluate_interior(m_centroid, scratch, grad);
 }
 
-void MeanValueCell::evaluate_interior(const Vec3& x, VecX& phi, MatX3* grad) const
-{
+void MeanValueCell::evaluate_interior(const Vec3& x, VecX& phi, MatX3* grad) const {
     const std::size_t n = m_nodes.size();
     thread_local std::vector<Vec3> d, u;
     thread_local std::vector<double> r;
@@ -191,12 +184,12 @@ void MeanValueCell::evaluate_interior(const Vec3& x, VecX& phi, MatX3* grad) con
     if (grad) {
         const Eigen::RowVector3d gW = grad->colwise().sum();
         for (std::size_t v = 0; v < n; ++v)
-            grad->row(Eigen::Index(v)) = (grad->row(Eigen::Index(v)) - phi[Eigen::Index(v)] * gW) / W;
+            grad->row(Eigen::Index(v))
+                = (grad->row(Eigen::Index(v)) - phi[Eigen::Index(v)] * gW) / W;
     }
 }
 
-VecX MeanValueCell::volume_fractions() const
-{
+VecX MeanValueCell::volume_fractions() const {
     // 000 eq. 14: mu_i = sum over the triangles at i of V(x_a, x_b, x_c, c) / (3 V).
     VecX mu = VecX::Zero(Eigen::Index(m_nodes.size()));
     for (const auto& tri : m_triangles) {
@@ -212,8 +205,7 @@ VecX MeanValueCell::volume_fractions() const
 }
 
 void mean_value(const std::vector<Vec3>& nodes, const std::vector<std::vector<Index>>& loops,
-    const Vec3& x, VecX& phi, MatX3* grad)
-{
+    const Vec3& x, VecX& phi, MatX3* grad) {
     MeanValueCell(nodes, loops).evaluate(x, phi, grad);
 }
 

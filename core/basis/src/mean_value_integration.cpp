@@ -1,15 +1,12 @@
 // Integration of mean value cells: the sample heuristic of seed 000 eq. 14-16 and a reference
 // Gauss rule on the centroid tetrahedralization; lumped volumes from 000 eq. 18.
 #include "polycut/basis/mean_value.hpp"
-
-#include "star_rule.hpp"
-
 #include "polycut/common/error.hpp"
+#include "star_rule.hpp"
 
 namespace polycut::basis {
 
-CellIntegration MeanValueCell::integrate(MvcRule rule, int gauss_degree) const
-{
+CellIntegration MeanValueCell::integrate(MvcRule rule, int gauss_degree) const {
     CellIntegration out;
     const VecX mu = volume_fractions();
     out.lumped_volume = mu * m_volume; // 000 eq. 18
@@ -49,14 +46,12 @@ CellIntegration MeanValueCell::integrate(MvcRule rule, int gauss_degree) const
 }
 
 CellIntegration integrate_mean_value(const std::vector<Vec3>& nodes,
-    const std::vector<std::vector<Index>>& loops, MvcRule rule, int gauss_degree)
-{
+    const std::vector<std::vector<Index>>& loops, MvcRule rule, int gauss_degree) {
     return MeanValueCell(nodes, loops).integrate(rule, gauss_degree);
 }
 
 CellIntegration integrate_mean_value(
-    const mesh::Mesh& mesh, Index cell, MvcRule rule, int gauss_degree)
-{
+    const mesh::Mesh& mesh, Index cell, MvcRule rule, int gauss_degree) {
     try {
         return MeanValueCell(cell_geometry(mesh, cell)).integrate(rule, gauss_degree);
     } catch (const MeshError& e) {

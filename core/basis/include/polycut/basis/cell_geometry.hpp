@@ -13,8 +13,8 @@ namespace polycut::basis {
 
 /// A cell in local numbering.
 struct CellGeometry {
-    std::vector<Vec3> nodes;                ///< node positions (#n) [m], the cell's `nodes` order
-    std::vector<std::vector<Index>> loops;  ///< outward face loops of local node indices
+    std::vector<Vec3> nodes; ///< node positions (#n) [m], the cell's `nodes` order
+    std::vector<std::vector<Index>> loops; ///< outward face loops of local node indices
 };
 
 /// Cell `cell` of `mesh` in local numbering: nodes in Cell::nodes order, loops outward.
@@ -32,8 +32,8 @@ struct SurfaceTriangle {
 /// the two cells sharing a face triangulate it identically whatever their loop orientation;
 /// triangles of area below area_tol [m^2] (collinear vertices) are dropped: they contribute
 /// nothing to the mean value weights.
-std::vector<SurfaceTriangle> fan_triangulation(const std::vector<Vec3>& nodes,
-    const std::vector<std::vector<Index>>& loops, double area_tol);
+std::vector<SurfaceTriangle> fan_triangulation(
+    const std::vector<Vec3>& nodes, const std::vector<std::vector<Index>>& loops, double area_tol);
 
 /// Bounding-box diagonal of the nodes [m].
 double cell_size(const std::vector<Vec3>& nodes);

@@ -31,22 +31,23 @@ struct HarmonicOptions {
 
 /// How a harmonic cell is integrated.
 enum class HarmonicRule {
-    Gauss,      ///< Gauss rule on a star tetrahedralization (from the centroid if it sees every face)
+    Gauss, ///< Gauss rule on a star tetrahedralization (from the centroid if it sees every face)
     MonteCarlo, ///< uniform random points in the cell, equal weights (for comparison)
 };
 
 /// Integration parameters.
 struct HarmonicIntegration {
     HarmonicRule rule = HarmonicRule::Gauss;
-    int gauss_degree = 2;            ///< polynomial degree of the tet rule (>= 0)
+    int gauss_degree = 2; ///< polynomial degree of the tet rule (>= 0)
     int monte_carlo_samples = 10000; ///< points inside the cell for HarmonicRule::MonteCarlo
-    std::uint64_t seed = 1;          ///< random seed for HarmonicRule::MonteCarlo
+    std::uint64_t seed = 1; ///< random seed for HarmonicRule::MonteCarlo
 };
 
 /// Boundary error of the 3D functions against their Dirichlet data (001 eq. 13), over test
 /// points on the surface distinct from the collocation points, all basis functions together.
 struct HarmonicBoundaryError {
-    double rms = 0; ///< root mean square of (N_i - b_i) over points and i, relative to the RMS of b_i
+    double rms
+        = 0; ///< root mean square of (N_i - b_i) over points and i, relative to the RMS of b_i
     double max = 0; ///< largest |N_i - b_i| (absolute; the data lie in [0, 1])
 };
 
