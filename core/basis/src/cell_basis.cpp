@@ -1,5 +1,7 @@
 #include "polycut/basis/cell_basis.hpp"
 
+#include "polycut/basis/harmonic.hpp"
+#include "polycut/basis/mean_value.hpp"
 #include "polycut/basis/p1.hpp"
 #include "polycut/basis/q1.hpp"
 #include "polycut/common/error.hpp"
@@ -26,8 +28,21 @@ CellIntegration integrate_cell(const mesh::Mesh& mesh, Index cell, const BasisOp
             return q1_integration(X, 2);
         }
         case mesh::CellShape::Polyhedron:
-            (void)options;
-            throw std::logic_error("polyhedral basis not built");
+            if (options.poly == PolyBasis::MeanValue) {
+                if (options.rule == PolyRule::MonteCarlo)
+                    throw std::logic_error("Monte Carlo integration is for harmonic cells only");
+                return integrate_mean_value(mesh, cell,
+                    options.rule == PolyRule::Heuristic ? MvcRule::Heuristic : MvcRule::Reference,
+                    options.gauss_degree);
+            } else {
+                HarmonicIntegration integration;
+                integration.rule = options.rule == PolyRule::MonteCarlo ? HarmonicRule::MonteCarlo
+                                                                        : HarmonicRule::Gauss;
+                integration.gauss_degree = options.gauss_degree;
+                HarmonicOptions harmonic;
+                harmonic.offset = options.harmonic_xi;
+                return integrate_harmonic(mesh, cell, integration, harmonic);
+            }
         }
     } catch (const MeshError& e) {
         if (e.cell() >= 0)

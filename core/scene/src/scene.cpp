@@ -122,9 +122,9 @@ namespace {
     {
         ObjectReader r(j, ptr);
         Solver s;
-        s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
+        s.type = r.choice("type", s.type, { "cholmod", "pcg" });
         s.preconditioner = r.choice(
-            "preconditioner", s.preconditioner, { "none", "jacobi", "block_jacobi", "lagged_cholesky" });
+            "preconditioner", s.preconditioner, { "jacobi", "block_jacobi", "lagged_cholesky" });
         s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
         s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
         s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));
@@ -259,6 +259,9 @@ Scene parse_scene(const std::string& text, const std::string& directory)
         r.fail("method", "\"tet\" needs tetrahedra; set /geometry/elements to \"tet\" or use method \"hex\"");
     if (r.has("basis"))
         s.basis = parse_basis(r.get("basis"), r.child("basis"));
+    if (s.method == "mvc" && s.basis.rule == "monte_carlo")
+        throw SceneError("/basis/rule", "\"monte_carlo\" integrates harmonic cells only; use "
+                                        "\"heuristic\" or \"reference\" for mvc");
     s.material = parse_material(r.get("material"), r.child("material"));
     if (r.has("integrator"))
         s.integrator = parse_integrator(r.get("integrator"), r.child("integrator"));

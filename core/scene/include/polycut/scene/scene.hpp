@@ -61,8 +61,8 @@ struct Integrator {
 };
 
 struct Solver {
-    std::string type = "pcg";                ///< "cholmod", "pcg" or "cg_relaxation" (static tet)
-    std::string preconditioner = "jacobi";   ///< pcg: "none", "jacobi", "block_jacobi", "lagged_cholesky"
+    std::string type = "pcg";                ///< "cholmod" or "pcg"
+    std::string preconditioner = "jacobi";   ///< pcg: "jacobi", "block_jacobi", "lagged_cholesky"
     double tolerance = 1e-6;                 ///< relative residual
     int max_iterations = 2000;
     int refactor_every = 0;                  ///< lagged_cholesky: refactor every k solves (0 = on demand)

@@ -1,0 +1,138 @@
+// sim::Simulation::cut: world-space sweep triangles to rest space, the cut itself, and the state
+// transfer that keeps new nodes where the material was (nothing pops, 000 sec. 5.1).
+#include "impl.hpp"
+
+#include "polycut/common/error.hpp"
+#include "polycut/common/stats.hpp"
+#include "polycut/geometry/affine_fit.hpp"
+#include "polycut/geometry/polyhedron.hpp"
+
+#include <set>
+
+namespace polycut::sim {
+namespace {
+    geometry::Aabb triangle_box(const std::array<Vec3, 3>& t)
+    {
+        geometry::Aabb b;
+        for (const Vec3& p : t)
+            b.extend(p);
+        return b;
+    }
+} // namespace
+
+CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
+{
+    Impl& s = *m_impl;
+    Stopwatch watch;
+    CutSummary summary;
+    summary.cells_before = s.mesh.num_cells();
+    // Validate everything before anything changes.
+    if (world.empty())
+        throw InputError("triangles", "needs at least one sweep triangle");
+    geometry::Aabb tissue;
+    for (const Vec3& p : s.positions)
+        tissue.extend(p);
+    const double L = tissue.diagonal();
+    for (std::size_t t = 0; t < world.size(); ++t) {
+        const std::string where = "triangles/" + std::to_string(t);
+        for (std::size_t k = 0; k < 3; ++k) {
+            if (!world[t][k].allFinite())
+                throw InputError(where + "/" + std::to_string(k), "must be finite");
+            if ((world[t][k] - tissue.center()).norm() > 1e3 * L)
+                throw InputError(where + "/" + std::to_string(k), "is absurdly far from the tissue");
+        }
+        const double area = 0.5 * (world[t][1] - world[t][0]).cross(world[t][2] - world[t][0]).norm();
+        if (!(area > 1e-10 * L * L))
+            throw InputError(where, "is degenerate (zero area)");
+    }
+    if (!s.cutter) {
+        cut::CutOptions opt;
+        opt.snap = s.scene.cutting.snap_distance;
+        opt.sliver_volume = s.scene.cutting.sliver_volume;
+        s.cutter = std::make_unique<cut::Cutter>(s.mesh, opt);
+    }
+    // World to rest (DESIGN.md sec. 3): each triangle through the least-squares affine fit of the
+    // nodes of the cells whose deformed bounds it touches. Exact where the deformation is affine
+    // over those cells (always at rest).
+    std::vector<cut::Triangle> rest;
+    for (const auto& tri : world) {
+        const geometry::Aabb tb = triangle_box(tri);
+        std::set<Index> nodes;
+        for (Index c = 0; c < s.mesh.num_cells(); ++c) {
+            geometry::Aabb cb;
+            for (Index n : s.mesh.cells[std::size_t(c)].nodes)
+                cb.extend(s.positions[std::size_t(n)]);
+            if (cb.overlaps(tb))
+                nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(), s.mesh.cells[std::size_t(c)].nodes.end());
+        }
+        if (nodes.size() < 4) {
+            summary.triangles_applied += 0; // outside the tissue: nothing to cut
+            continue;
+        }
+        std::vector<Vec3> X, x;
+        for (Index n : nodes) {
+            X.push_back(s.mesh.rest[std::size_t(n)]);
+            x.push_back(s.positions[std::size_t(n)]);
+        }
+        const geometry::AffineFit fit = geometry::fit_affine(X, x);
+        if (!fit.ok || std::abs(fit.A.determinant()) < 1e-12)
+            continue;
+        const Mat3 Ainv = fit.A.inverse();
+        cut::Triangle r;
+        for (std::size_t k = 0; k < 3; ++k)
+            r[k] = Ainv * (tri[k] - fit.t);
+        rest.push_back(r);
+    }
+    if (rest.empty()) {
+        summary.cut_ms = watch.ms();
+        summary.cells_after = s.mesh.num_cells();
+        return summary;
+    }
+    const cut::CutReport report = s.cutter->cut(rest);
+    summary.triangles_applied = int(report.triangles - report.triangles_missed);
+    summary.cells_split = int(report.new_cells.size());
+    summary.nodes_added = int(report.nodes_after - report.nodes_before);
+    summary.topology_changed = report.topology_changed;
+    if (report.topology_changed)
+        s.resize_state_after_cut(report);
+    summary.cells_after = s.mesh.num_cells();
+    summary.cut_ms = watch.ms();
+    return summary;
+}
+
+void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report)
+{
+    const Index n_old = report.nodes_before, n_new = report.nodes_after;
+    // New nodes take displacement and velocity from the material they came from.
+    state.x.conservativeResize(n_new, 3);
+    state.v.conservativeResize(n_new, 3);
+    node_fixed_mask.resize(3 * std::size_t(n_new), 0);
+    VecX loads = VecX::Zero(3 * n_new);
+    loads.head(3 * n_old) = scene_forces;
+    scene_forces = loads;
+    for (const cut::NodeOrigin& o : report.new_nodes) {
+        Vec3 x = Vec3::Zero(), v = Vec3::Zero();
+        std::array<bool, 3> fixed { true, true, true };
+        for (const auto& [n, w] : o.weights) {
+            x += w * state.x.row(n).transpose();
+            v += w * state.v.row(n).transpose();
+            for (int k = 0; k < 3; ++k)
+                fixed[std::size_t(k)] = fixed[std::size_t(k)] && node_fixed_mask[3 * std::size_t(n) + std::size_t(k)];
+        }
+        state.x.row(o.node) = x.transpose();
+        state.v.row(o.node) = v.transpose();
+        // A node between fixed nodes (on a fixed face) is fixed too, per component.
+        for (int k = 0; k < 3; ++k)
+            node_fixed_mask[3 * std::size_t(o.node) + std::size_t(k)] = o.weights.empty() ? 0 : fixed[std::size_t(k)];
+    }
+    model->set_fixed_dofs(node_fixed_mask);
+    if (!report.removed_cells.empty())
+        model->rebuild_topology();
+    else
+        model->update_cells(report.changed_cells);
+    static_solved = false;
+    sync_positions();
+    refresh_topology();
+}
+
+} // namespace polycut::sim

@@ -1,0 +1,66 @@
+// Private state of sim::Simulation, shared by its source files.
+#pragma once
+
+#include "polycut/cut/cutter.hpp"
+#include "polycut/elasticity/elastic_model.hpp"
+#include "polycut/integrate/integrator.hpp"
+#include "polycut/integrate/options.hpp"
+#include "polycut/mesh/mesh.hpp"
+#include "polycut/sim/simulation.hpp"
+#include "polycut/surface/extract.hpp"
+
+#include <map>
+#include <memory>
+
+namespace polycut::sim {
+
+/// Nodes and weights a force or grab acts on (material points, fixed at creation).
+struct NodeWeights {
+    std::vector<Index> nodes;
+    std::vector<double> weights; ///< sum to 1
+};
+
+struct ActiveForce {
+    ForceSpec spec;
+    NodeWeights at;
+    double expires = 0; ///< sim time [s]; <= 0: never
+};
+
+struct ActiveGrab {
+    GrabSpec spec;
+    NodeWeights at;
+    Vec3 target = Vec3::Zero(); ///< [m]
+};
+
+struct Simulation::Impl {
+    scene::Scene scene;
+    mesh::Mesh initial_mesh; ///< for reset()
+    mesh::Mesh mesh;
+    std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets
+    std::unique_ptr<elasticity::ElasticModel> model;
+    std::unique_ptr<integrate::Integrator> integrator;
+    std::unique_ptr<cut::Cutter> cutter;
+    integrate::State state;
+    VecX scene_forces; ///< (3#N) constant nodal loads from the scene [N]
+    VecX f_ext;        ///< (3#N) work vector [N]
+    std::map<long, ActiveForce> forces;
+    std::map<long, ActiveGrab> grabs;
+    long next_id = 1;
+    long tick = 0;
+    double time = 0;
+    bool static_solved = false; ///< static scenes: loads unchanged since the last solve
+    surface::Topology topology;
+    std::uint64_t topology_version = 1;
+    std::vector<Vec3> positions; ///< world positions (#N) [m], mirror of state.x
+
+    void build();
+    void rebuild_physics();
+    void sync_positions();
+    void refresh_topology();
+    NodeWeights pick(const Vec3& world_point, double radius) const;
+    void assemble_external(double sim_time);
+    void fix_dofs_from_scene();
+    void resize_state_after_cut(const cut::CutReport& report);
+};
+
+} // namespace polycut::sim

@@ -1,0 +1,154 @@
+#include "setup.hpp"
+
+#include "polycut/common/error.hpp"
+#include "polycut/geometry/polygon.hpp"
+
+#include <limits>
+
+namespace polycut::sim {
+
+elasticity::Material elasticity_material(const scene::Scene& s)
+{
+    elasticity::Material m;
+    m.youngs_modulus = s.material.youngs_modulus;
+    m.poisson_ratio = s.material.poisson_ratio;
+    m.density = s.material.density;
+    m.rayleigh_mass = s.material.rayleigh_mass;
+    m.rayleigh_stiffness = s.material.rayleigh_stiffness;
+    return m;
+}
+
+basis::BasisOptions basis_options(const scene::Scene& s)
+{
+    basis::BasisOptions b;
+    b.poly = s.method == "harmonic" ? basis::PolyBasis::Harmonic : basis::PolyBasis::MeanValue;
+    b.rule = s.basis.rule == "reference"  ? basis::PolyRule::Reference
+        : s.basis.rule == "monte_carlo" ? basis::PolyRule::MonteCarlo
+                                        : basis::PolyRule::Heuristic;
+    if (s.method == "harmonic" && s.basis.rule == "heuristic")
+        b.rule = basis::PolyRule::Reference; // the heuristic rule is specific to mean value cells
+    b.gauss_degree = s.basis.gauss_degree;
+    b.harmonic_xi = s.basis.harmonic_xi;
+    return b;
+}
+
+Index nearest_node(const mesh::Mesh& m, const Vec3& X)
+{
+    std::vector<std::uint8_t> used(m.rest.size(), 0);
+    for (const auto& c : m.cells)
+        for (Index n : c.nodes)
+            used[std::size_t(n)] = 1;
+    Index best = kNone;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (Index i = 0; i < m.num_nodes(); ++i) {
+        if (!used[std::size_t(i)])
+            continue;
+        const double d = (m.rest[std::size_t(i)] - X).squaredNorm();
+        if (d < best_d) {
+            best_d = d;
+            best = i;
+        }
+    }
+    return best;
+}
+
+std::vector<std::uint8_t> fixed_dofs_from_scene(const scene::Scene& s, const mesh::Mesh& m)
+{
+    std::vector<std::uint8_t> mask(3 * m.rest.size(), 0);
+    for (std::size_t f = 0; f < s.fixed.size(); ++f) {
+        long count = 0;
+        for (std::size_t i = 0; i < m.rest.size(); ++i) {
+            if (!scene::selects(s.fixed[f].where, m.rest[i]))
+                continue;
+            ++count;
+            for (int k = 0; k < 3; ++k)
+                if (s.fixed[f].components[std::size_t(k)])
+                    mask[3 * i + std::size_t(k)] = 1;
+        }
+        if (count == 0)
+            throw SceneError("/fixed/" + std::to_string(f), "selects no node of the mesh");
+    }
+    return mask;
+}
+
+VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m)
+{
+    VecX f = VecX::Zero(3 * m.num_nodes());
+    for (std::size_t i = 0; i < s.loads.forces.size(); ++i) {
+        const scene::Force& force = s.loads.forces[i];
+        const std::string where = "/loads/forces/" + std::to_string(i);
+        if (force.kind == scene::Force::Kind::Point) {
+            Vec3 X = force.point;
+            if (!force.probe.empty())
+                for (const auto& p : s.probes)
+                    if (p.name == force.probe)
+                        X = p.point;
+            const Index n = nearest_node(m, X);
+            f.segment<3>(3 * n) += force.force;
+            continue;
+        }
+        std::vector<double> weight(m.rest.size(), 0.0);
+        double total = 0;
+        if (force.distribution == "uniform") {
+            for (std::size_t n = 0; n < m.rest.size(); ++n)
+                if (scene::selects(force.region, m.rest[n])) {
+                    weight[n] = 1;
+                    total += 1;
+                }
+        } else {
+            // A traction: each boundary face inside the region gives its area to its nodes
+            // (exact consistent load for P1 triangles, 1/3 per vertex).
+            for (const auto& face : m.faces) {
+                if (!face.boundary())
+                    continue;
+                bool inside = true;
+                for (Index n : face.nodes)
+                    inside = inside && scene::selects(force.region, m.rest[std::size_t(n)]);
+                if (!inside)
+                    continue;
+                const double a = geometry::polygon_area(geometry::gather(m.rest, face.nodes));
+                for (Index n : face.nodes)
+                    weight[std::size_t(n)] += a / double(face.nodes.size());
+                total += a;
+            }
+        }
+        if (!(total > 0))
+            throw SceneError(where, "selects no node (or no boundary face for \"area\") of the mesh");
+        for (std::size_t n = 0; n < m.rest.size(); ++n)
+            if (weight[n] > 0)
+                f.segment<3>(3 * Index(n)) += force.force * (weight[n] / total);
+    }
+    return f;
+}
+
+} // namespace polycut::sim
+
+namespace polycut::sim {
+
+integrate::IntegratorOptions integrator_options(const scene::Scene& s)
+{
+    integrate::IntegratorOptions o;
+    const auto& it = s.integrator;
+    o.kind = it.type == "static"     ? integrate::IntegratorKind::Static
+        : it.type == "implicit_euler" ? integrate::IntegratorKind::ImplicitEuler
+                                      : integrate::IntegratorKind::SemiImplicitEuler;
+    o.dt = it.dt;
+    o.force_mode = it.corotated ? elasticity::ForceMode::Corotated : elasticity::ForceMode::Linear;
+    o.static_mode = !it.corotated         ? integrate::StaticMode::Linear
+        : it.static_mode == "fixed_point" ? integrate::StaticMode::CorotatedFixedPoint
+                                          : integrate::StaticMode::CorotatedNewton;
+    o.static_tolerance = it.tolerance;
+    o.static_max_iterations = it.max_iterations;
+    o.gravity = s.loads.gravity;
+    const auto& sv = s.solver;
+    o.solver.kind = sv.type == "cholmod"        ? integrate::LinearSolverKind::Cholmod
+        : sv.preconditioner == "block_jacobi"    ? integrate::LinearSolverKind::PcgBlockJacobi
+        : sv.preconditioner == "lagged_cholesky" ? integrate::LinearSolverKind::PcgLagged
+                                                 : integrate::LinearSolverKind::PcgJacobi;
+    o.solver.relative_tolerance = sv.tolerance;
+    o.solver.max_iterations = sv.max_iterations;
+    o.solver.refactor_every = sv.refactor_every;
+    return o;
+}
+
+} // namespace polycut::sim

@@ -1,0 +1,30 @@
+// Private: translating a scene's plain settings into the modules' option structs, and the
+// scene's fixed sets and loads into per-DOF arrays.
+#pragma once
+
+#include "polycut/basis/cell_basis.hpp"
+#include "polycut/elasticity/material.hpp"
+#include "polycut/integrate/integrator.hpp"
+#include "polycut/mesh/mesh.hpp"
+#include "polycut/scene/scene.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace polycut::sim {
+
+elasticity::Material elasticity_material(const scene::Scene& s);
+basis::BasisOptions basis_options(const scene::Scene& s);
+integrate::IntegratorOptions integrator_options(const scene::Scene& s);
+
+/// Per-DOF fixed mask (3#N). Throws SceneError ("/fixed/i") for a set that selects no node.
+std::vector<std::uint8_t> fixed_dofs_from_scene(const scene::Scene& s, const mesh::Mesh& m);
+
+/// Constant nodal loads (3#N) [N] of the scene's forces (gravity is applied by the integrator).
+/// Throws SceneError ("/loads/forces/i") for a region that selects no node.
+VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m);
+
+/// Node nearest to a rest-space point among nodes used by cells.
+Index nearest_node(const mesh::Mesh& m, const Vec3& X);
+
+} // namespace polycut::sim

@@ -1,0 +1,235 @@
+// sim::Simulation: construction from a scene, stepping, forces and grabs.
+#include "impl.hpp"
+
+#include "polycut/common/error.hpp"
+#include "polycut/common/stats.hpp"
+#include "polycut/geometry/polygon.hpp"
+#include "polycut/sim/build_mesh.hpp"
+#include "setup.hpp"
+
+#include <cmath>
+
+namespace polycut::sim {
+
+Simulation::Simulation(scene::Scene scene)
+    : m_impl(std::make_unique<Impl>())
+{
+    m_impl->scene = std::move(scene);
+    m_impl->initial_mesh = build_mesh(m_impl->scene);
+    m_impl->build();
+}
+
+Simulation::~Simulation() = default;
+
+const scene::Scene& Simulation::scene() const { return m_impl->scene; }
+long Simulation::tick() const { return m_impl->tick; }
+double Simulation::time() const { return m_impl->time; }
+bool Simulation::is_static() const { return m_impl->scene.integrator.type == "static"; }
+
+void Simulation::Impl::build()
+{
+    mesh = initial_mesh;
+    node_fixed_mask = fixed_dofs_from_scene(scene, mesh);
+    scene_forces = scene_loads(scene, mesh);
+    model = std::make_unique<elasticity::ElasticModel>(
+        mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
+    integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
+    cutter.reset();
+    state = integrator->rest_state();
+    forces.clear();
+    grabs.clear();
+    tick = 0;
+    time = 0;
+    static_solved = false;
+    sync_positions();
+    refresh_topology();
+}
+
+void Simulation::reset()
+{
+    m_impl->build();
+    ++m_impl->topology_version;
+}
+
+void Simulation::Impl::sync_positions()
+{
+    positions.resize(std::size_t(state.x.rows()));
+    for (Index i = 0; i < Index(state.x.rows()); ++i)
+        positions[std::size_t(i)] = state.x.row(i).transpose();
+}
+
+void Simulation::Impl::refresh_topology()
+{
+    topology = surface::extract_topology(mesh);
+    ++topology_version;
+}
+
+NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const
+{
+    // Hat kernel over the nodes within `radius` of p in the current configuration; the nearest
+    // node alone when none lies within. Only nodes that belong to a cell are picked.
+    NodeWeights out;
+    double total = 0;
+    Index nearest = kNone;
+    double best = std::numeric_limits<double>::infinity();
+    const auto& used = model->nodal_mass();
+    for (Index i = 0; i < Index(positions.size()); ++i) {
+        if (!(used[i] > 0))
+            continue;
+        const double d = (positions[std::size_t(i)] - p).norm();
+        if (d < best) {
+            best = d;
+            nearest = i;
+        }
+        if (d < radius) {
+            const double w = 1.0 - d / radius;
+            out.nodes.push_back(i);
+            out.weights.push_back(w);
+            total += w;
+        }
+    }
+    if (out.nodes.empty() && nearest != kNone) {
+        out.nodes.push_back(nearest);
+        out.weights.push_back(1.0);
+        total = 1.0;
+    }
+    for (double& w : out.weights)
+        w /= total;
+    return out;
+}
+
+void Simulation::Impl::assemble_external(double sim_time)
+{
+    f_ext = scene_forces;
+    for (auto it = forces.begin(); it != forces.end();) {
+        if (it->second.expires > 0 && sim_time > it->second.expires + 1e-12) {
+            it = forces.erase(it);
+            static_solved = false;
+            continue;
+        }
+        const auto& a = it->second.at;
+        for (std::size_t k = 0; k < a.nodes.size(); ++k)
+            f_ext.segment<3>(3 * a.nodes[k]) += a.weights[k] * it->second.spec.force;
+        ++it;
+    }
+    for (const auto& [id, g] : grabs) {
+        // A zero-length spring between the grabbed material point (weighted centroid) and the
+        // target: total force k (target - x_c), spread by the same weights.
+        Vec3 xc = Vec3::Zero();
+        for (std::size_t k = 0; k < g.at.nodes.size(); ++k)
+            xc += g.at.weights[k] * positions[std::size_t(g.at.nodes[k])];
+        const Vec3 f = g.spec.stiffness * (g.target - xc);
+        for (std::size_t k = 0; k < g.at.nodes.size(); ++k)
+            f_ext.segment<3>(3 * g.at.nodes[k]) += g.at.weights[k] * f;
+    }
+}
+
+StepReport Simulation::step()
+{
+    Impl& s = *m_impl;
+    Stopwatch watch;
+    StepReport r;
+    const double dt = is_static() ? 0.0 : s.scene.integrator.dt;
+    try {
+        s.assemble_external(s.time + dt);
+        if (is_static() && s.static_solved && s.grabs.empty()) {
+            // Equilibrium already holds for unchanged loads.
+        } else {
+            s.integrator->set_external_forces(s.f_ext);
+            const integrate::StepReport ir = s.integrator->step(s.state);
+            r.assembly_ms = ir.assembly_ms;
+            r.solve_ms = ir.solve_ms;
+            r.solver_iterations = ir.solver_iterations;
+            r.newton_iterations = ir.newton_iterations;
+            r.residual = ir.residual;
+            r.rolled_back = ir.rolled_back;
+            r.warnings = ir.warnings;
+            s.static_solved = is_static() && !ir.rolled_back;
+        }
+        s.sync_positions();
+    } catch (const std::exception& e) {
+        // step() never throws: report and keep the last good state.
+        r.warnings.push_back(std::string("step failed: ") + e.what());
+        r.rolled_back = true;
+    }
+    ++s.tick;
+    s.time += dt;
+    r.tick = s.tick;
+    r.sim_time = s.time;
+    r.step_ms = watch.ms();
+    return r;
+}
+
+namespace {
+    void require_finite(const Vec3& v, const char* what)
+    {
+        if (!v.allFinite())
+            throw InputError(what, "must be finite");
+    }
+    void require_positive(double x, const char* what)
+    {
+        if (!std::isfinite(x) || !(x > 0))
+            throw InputError(what, "must be a finite number > 0");
+    }
+} // namespace
+
+long Simulation::add_force(const ForceSpec& f)
+{
+    require_finite(f.point, "point");
+    require_finite(f.force, "force");
+    require_positive(f.radius, "radius");
+    if (!std::isfinite(f.duration) || f.duration < 0)
+        throw InputError("duration", "must be a finite number >= 0");
+    Impl& s = *m_impl;
+    ActiveForce a;
+    a.spec = f;
+    a.at = s.pick(f.point, f.radius);
+    a.expires = f.duration > 0 ? s.time + f.duration : 0.0;
+    const long id = s.next_id++;
+    s.forces.emplace(id, std::move(a));
+    s.static_solved = false;
+    return id;
+}
+
+bool Simulation::remove_force(long id)
+{
+    m_impl->static_solved = false;
+    return m_impl->forces.erase(id) > 0;
+}
+
+long Simulation::grab(const GrabSpec& g)
+{
+    require_finite(g.point, "point");
+    require_positive(g.stiffness, "stiffness");
+    require_positive(g.radius, "radius");
+    Impl& s = *m_impl;
+    ActiveGrab a;
+    a.spec = g;
+    a.at = s.pick(g.point, g.radius);
+    Vec3 xc = Vec3::Zero();
+    for (std::size_t k = 0; k < a.at.nodes.size(); ++k)
+        xc += a.at.weights[k] * s.positions[std::size_t(a.at.nodes[k])];
+    a.target = xc;
+    const long id = s.next_id++;
+    s.grabs.emplace(id, std::move(a));
+    return id;
+}
+
+bool Simulation::move_grab(long id, const Vec3& target)
+{
+    require_finite(target, "target");
+    auto it = m_impl->grabs.find(id);
+    if (it == m_impl->grabs.end())
+        return false;
+    it->second.target = target;
+    m_impl->static_solved = false;
+    return true;
+}
+
+bool Simulation::release(long id)
+{
+    m_impl->static_solved = false;
+    return m_impl->grabs.erase(id) > 0;
+}
+
+} // namespace polycut::sim

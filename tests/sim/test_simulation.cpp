@@ -1,0 +1,182 @@
+// The simulation facade: scenes in, physics and bad-input behaviour out.
+#include "polycut/common/error.hpp"
+#include "polycut/sim/simulation.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace polycut;
+
+namespace {
+// A soft block fixed at its base; method and integrator substituted per test.
+std::string block_scene(const std::string& method, const std::string& integrator,
+    const std::string& extra = "")
+{
+    const bool hex = method == "hex";
+    return R"({"name": "block",
+      "geometry": {"type": "box", "size": [0.04, 0.04, 0.02], "cells": [4, 4, 2], "elements": ")"
+        + std::string(hex ? "hex" : "tet") + R"("},
+      "method": ")" + method + R"(",
+      "material": {"youngs_modulus": 1e4, "poisson_ratio": 0.3, "density": 1000, "rayleigh_stiffness": 0.02},
+      "integrator": )" + integrator + R"(,
+      "solver": {"type": "pcg", "tolerance": 1e-10},
+      "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}],
+      "loads": {"gravity": [0, 0, -9.81]},
+      "probes": [{"name": "top", "point": [0.02, 0.02, 0.02]}])"
+        + extra + "}";
+}
+
+sim::Simulation make(const std::string& text) { return sim::Simulation(scene::parse_scene(text)); }
+} // namespace
+
+TEST(Simulation, ColumnUnderGravityMatchesAnalyticWithQ1)
+{
+    // nu = 0, laterally unconstrained column: u_z(top) = -rho g L^2 / (2 E) exactly for Q1.
+    const std::string text = R"({"name": "column",
+      "geometry": {"type": "box", "size": [0.02, 0.02, 0.1], "cells": [1, 1, 10], "elements": "hex"},
+      "method": "hex",
+      "material": {"youngs_modulus": 1e5, "poisson_ratio": 0.0, "density": 1000},
+      "integrator": {"type": "static", "corotated": false},
+      "solver": {"type": "cholmod"},
+      "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}, "components": "z"},
+                {"box": {"min": [0, 0, 0], "max": [0, 0, 0]}}, {"box": {"min": [0.02, 0, 0], "max": [0.02, 0, 0]}, "components": "yz"},
+                {"box": {"min": [0, 0.02, 0], "max": [0, 0.02, 0]}, "components": "xz"}],
+      "loads": {"gravity": [0, 0, -9.81]},
+      "probes": [{"name": "top", "point": [0.01, 0.01, 0.1]}, {"name": "mid", "point": [0.0, 0.0, 0.05]}]})";
+    sim::Simulation s = make(text);
+    const sim::StepReport r = s.step();
+    EXPECT_TRUE(r.warnings.empty());
+    const double rho = 1000, g = 9.81, E = 1e5, L = 0.1;
+    const double top = rho * g * L * L / (2 * E);
+    EXPECT_NEAR(s.probe_displacement("top").z(), -top, 1e-9 * top);
+    const double z = 0.05;
+    EXPECT_NEAR(s.probe_displacement("mid").z(), -rho * g * (2 * L * z - z * z) / (2 * E), 1e-9 * top);
+}
+
+TEST(Simulation, DampedDynamicsSettleAtTheStaticSolution)
+{
+    sim::Simulation stat = make(block_scene("tet", R"({"type": "static", "corotated": true})"));
+    stat.step();
+    const Vec3 ref = stat.probe_displacement("top");
+    ASSERT_GT(ref.norm(), 1e-6);
+    sim::Simulation dyn = make(block_scene("tet", R"({"type": "implicit_euler", "dt": 0.01})"));
+    for (int i = 0; i < 400; ++i)
+        dyn.step();
+    EXPECT_NEAR((dyn.probe_displacement("top") - ref).norm(), 0.0, 1e-4 * ref.norm());
+    EXPECT_NEAR(dyn.time(), 4.0, 1e-9);
+    EXPECT_EQ(dyn.tick(), 400);
+}
+
+TEST(Simulation, ForcesAndGrabsMoveTheTissueAndExpire)
+{
+    sim::Simulation s = make(block_scene("tet", R"({"type": "static", "corotated": true})"));
+    s.step();
+    const Vec3 rest = s.probe_displacement("top");
+    sim::ForceSpec f;
+    f.point = Vec3(0.02, 0.02, 0.02);
+    f.force = Vec3(0.05, 0, 0);
+    f.radius = 0.012;
+    const long id = s.add_force(f);
+    s.step();
+    const Vec3 pushed = s.probe_displacement("top");
+    EXPECT_GT(pushed.x() - rest.x(), 1e-5);
+    EXPECT_TRUE(s.remove_force(id));
+    EXPECT_FALSE(s.remove_force(id));
+    s.step();
+    EXPECT_NEAR((s.probe_displacement("top") - rest).norm(), 0.0, 1e-8);
+    // A grab drags the material point toward its target.
+    sim::GrabSpec g;
+    g.point = Vec3(0.02, 0.02, 0.02);
+    g.stiffness = 20;
+    g.radius = 0.012;
+    const long gid = s.grab(g);
+    EXPECT_TRUE(s.move_grab(gid, Vec3(0.02, 0.02, 0.03)));
+    s.step();
+    EXPECT_GT(s.probe_displacement("top").z(), rest.z() + 1e-4);
+    EXPECT_TRUE(s.release(gid));
+    EXPECT_FALSE(s.move_grab(gid, Vec3::Zero()));
+}
+
+TEST(Simulation, BadInputThrowsAndChangesNothing)
+{
+    sim::Simulation s = make(block_scene("tet", R"({"type": "implicit_euler", "dt": 0.01})"));
+    for (int i = 0; i < 3; ++i)
+        s.step();
+    const auto hash = s.state_hash();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    sim::ForceSpec f;
+    f.point = Vec3(nan, 0, 0);
+    EXPECT_THROW(s.add_force(f), InputError);
+    f.point = Vec3::Zero();
+    f.radius = -1;
+    EXPECT_THROW(s.add_force(f), InputError);
+    sim::GrabSpec g;
+    g.stiffness = 0;
+    EXPECT_THROW(s.grab(g), InputError);
+    EXPECT_THROW(s.cut({ { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0) } }), InputError);
+    EXPECT_THROW(s.cut({ { Vec3(0, 0, 0), Vec3(nan, 0, 0), Vec3(0, 1, 0) } }), InputError);
+    EXPECT_THROW(s.cut({}), InputError);
+    EXPECT_EQ(s.state_hash(), hash);
+    EXPECT_THROW(s.probe_displacement("nowhere"), InputError);
+}
+
+TEST(Simulation, SameCommandsGiveTheSameStateAndResetRestores)
+{
+    auto run = [](sim::Simulation& s) {
+        sim::ForceSpec f;
+        f.point = Vec3(0.04, 0.02, 0.02);
+        f.force = Vec3(0, 0.02, 0);
+        f.duration = 0.05;
+        for (int i = 0; i < 20; ++i) {
+            if (i == 3)
+                s.add_force(f);
+            s.step();
+        }
+        return s.state_hash();
+    };
+    const std::string text = block_scene("tet", R"({"type": "implicit_euler", "dt": 0.01})");
+    sim::Simulation a = make(text), b = make(text);
+    const auto initial = a.state_hash();
+    const auto ha = run(a);
+    EXPECT_EQ(ha, run(b));
+    EXPECT_NE(ha, initial);
+    a.reset();
+    EXPECT_EQ(a.state_hash(), initial);
+    EXPECT_EQ(a.tick(), 0);
+    EXPECT_EQ(run(a), ha);
+}
+
+TEST(Simulation, SurfaceIsClosedAndTagged)
+{
+    sim::Simulation s = make(block_scene("hex", R"({"type": "static", "corotated": false})"));
+    const sim::Surface surf = s.surface();
+    EXPECT_EQ(surf.triangles.size(), 3 * surf.tags.size());
+    EXPECT_EQ(surf.positions.size() % 3, 0u);
+    // 4x4x2 hex block: 2 (16 + 8 + 8) boundary quads, 2 triangles each, all skin.
+    EXPECT_EQ(surf.tags.size(), 2u * 2u * (16u + 8u + 8u));
+    for (auto t : surf.tags)
+        EXPECT_EQ(t, 1);
+    const sim::MeshStats st = s.mesh_stats();
+    EXPECT_TRUE(st.surface_closed);
+    EXPECT_NEAR(st.rest_volume, 0.04 * 0.04 * 0.02, 1e-15);
+}
+
+TEST(Simulation, SceneErrorsNameTheField)
+{
+    try {
+        make(block_scene("tet", R"({"type": "static"})",
+            R"(, "cutting": {"snap_distance": 0.01}, "loads2": 1)"));
+        FAIL();
+    } catch (const SceneError& e) {
+        EXPECT_EQ(e.where(), "/loads2");
+    }
+    // A fixed set that selects nothing is reported with its pointer.
+    std::string text = block_scene("tet", R"({"type": "static"})");
+    const std::string base_plane = "\"point\": [0, 0, 0], \"normal\": [0, 0, 1]";
+    text.replace(text.find(base_plane), base_plane.size(), "\"point\": [0, 0, -1], \"normal\": [0, 0, 1]");
+    try {
+        make(text);
+        FAIL();
+    } catch (const SceneError& e) {
+        EXPECT_EQ(e.where(), "/fixed/0");
+    }
+}
