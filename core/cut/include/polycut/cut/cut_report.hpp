@@ -58,6 +58,14 @@ struct CutReport {
     /// must re-analyse.
     bool pattern_changed = false;
     double elapsed_ms = 0; ///< wall time of the call [ms]
+    /// Face snapping (`tet`) only: old node id -> new id (kNone if collapsed away); empty when
+    /// no node was removed. Ids in `new_nodes`, `duplicated` and `moved_nodes` are after the call;
+    /// NodeOrigin weights refer to ids before it.
+    std::vector<Index> node_map;
+    std::vector<Index> removed_nodes; ///< `tet` only: old ids of nodes removed by edge collapses
+    /// `tet` only: (node id after the call, rest position before the call [m]) of every existing
+    /// node whose rest position the cut moved (snapping onto the sweep, collapses).
+    std::vector<std::pair<Index, Vec3>> moved_nodes;
 };
 
 } // namespace polycut::cut

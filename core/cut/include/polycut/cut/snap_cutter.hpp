@@ -1,0 +1,117 @@
+// The face-snapping cutter of the `tet` method (seed 002 sec. 3.2-3.3): on a pure tetrahedral
+// mesh, each sweep triangle marks, on every edge it crosses, the edge node closest to the
+// crossing; a tet whose marks reach three nodes selects that face; the selected faces' nodes snap
+// onto the sweep plane (boundary nodes only within their boundary faces); the mesh is dissected
+// along the selected faces (nodes duplicated where the cells around them fell apart); finally flat
+// tets (needle, spindle, sliver, cap) are collapsed. The cell count stays constant except for
+// degeneracy removal.
+//
+// Mutation contract: a call moves rest positions of the nodes it lists in CutReport::moved_nodes,
+// appends nodes (duplicates, and edge/face nodes of degeneracy removal), appends Cut faces and
+// rewrites node ids inside cells and faces. Without degeneracy removal node, cell and face ids stay
+// valid. When a degenerate tet is collapsed, cells and nodes are compacted (CutReport::cell_map,
+// CutReport::node_map) and the face table is rebuilt (face ids renumbered). Invalid input throws
+// InputError before anything changes.
+#pragma once
+
+#include "polycut/cut/cut_options.hpp"
+#include "polycut/cut/cut_report.hpp"
+#include "polycut/mesh/mesh.hpp"
+
+#include <memory>
+#include <numbers>
+#include <span>
+
+namespace polycut::cut {
+
+/// Options of the face-snapping cutter. Tolerances are relative (dimensionless) unless a unit is
+/// given.
+struct SnapOptions {
+    /// A node closer than plane_eps * L to a sweep plane lies on it (L: rest bounding-box
+    /// diagonal of the mesh).
+    double plane_eps = 1e-9;
+    /// Snap the selected faces' nodes onto the sweep (002 sec. 3.2.2); false gives the jagged
+    /// cut of 002 Fig. 3.5.
+    bool snap_nodes = true;
+    /// A node move is refused when a tet around the node would get an aspect ratio below this
+    /// (or a non-positive volume): a guard against inverted and completely flat tets; flat tets
+    /// above it are left to degeneracy removal.
+    double snap_min_aspect = 1e-3;
+    /// Remove degenerate tets after each sweep triangle (002 sec. 3.2.3).
+    bool remove_degeneracies = true;
+    /// A tet is degenerate when its aspect ratio (min height / max edge) is below this (002: 0.01).
+    double degenerate_aspect = 0.01;
+    /// A dihedral angle larger than this [rad] is "large" (002: 0.99 pi); the count of large
+    /// angles classifies a degenerate tet as needle (0), spindle (1), sliver (2) or cap (3+).
+    double large_dihedral = 0.99 * std::numbers::pi;
+    /// Collapse passes over the list of degeneracies; a pass that shortens the list is repeated
+    /// (002 sec. 3.2.3).
+    int max_passes = 8;
+    /// A sweep triangle whose area is below min_area * L^2, or whose shortest altitude is below
+    /// min_area * L, is rejected as degenerate.
+    double min_area = 1e-10;
+    /// Triangle corners farther than max_extent * L from the mesh's bounding-box centre are
+    /// rejected.
+    double max_extent = 1e3;
+};
+
+/// What the last cut call of a SnapCutter did beyond the common CutReport.
+struct SnapStats {
+    Index edges_crossed = 0; ///< sweep/edge intersections found (first per edge and tet)
+    Index faces_selected = 0; ///< faces selected by closest nodes (002 sec. 3.2.1)
+    Index faces_dissected = 0; ///< selected faces turned into pairs of Cut faces
+    Index faces_pending = 0; ///< selected faces held back (would pinch an edge); retried later
+    Index nodes_snapped = 0; ///< node moves onto a sweep plane
+    Index snaps_refused = 0; ///< node moves refused by the snap_min_aspect guard
+    Index degenerate_found = 0; ///< degenerate tets found (first pass of each triangle)
+    Index needles = 0, spindles = 0, slivers = 0, caps = 0; ///< classification of those
+    Index edges_collapsed = 0; ///< edge collapses done
+    Index edges_split = 0; ///< edge splits done (spindles and slivers)
+    Index faces_split = 0; ///< face splits done (caps)
+    Index degenerate_left = 0; ///< degenerate tets left (incollapsible; still positive volume)
+    double volume_change = 0; ///< |V_after - V_before| / V_before of the call
+};
+
+/// Stateful face-snapping cutter on a tetrahedral mesh it does not own. Between calls it keeps
+/// the sweep/edge intersections of tets whose cut is incomplete (002 sec. 3.2.1, Fig. 3.4), so the
+/// triangles of one sweep give one connected cut even across calls.
+class SnapCutter {
+public:
+    /// Binds to `mesh` (must outlive the cutter; every cell a Tet). Throws InputError otherwise.
+    explicit SnapCutter(mesh::Mesh& mesh, SnapOptions options = {});
+    ~SnapCutter();
+    SnapCutter(const SnapCutter&) = delete;
+    SnapCutter& operator=(const SnapCutter&) = delete;
+
+    /// Cuts along sweep triangles given in REST space [m], in time order. Throws InputError
+    /// (mesh unchanged) if a triangle has a non-finite coordinate, is degenerate or lies absurdly
+    /// far away. The report lists new nodes (duplicates with weight 1 on their original, edge and
+    /// face nodes of degeneracy removal with their interpolation weights), moved nodes, changed
+    /// cells, Cut faces, removed cells/nodes with the id maps, and the rest volume before/after.
+    CutReport cut(std::span<const Triangle> rest_triangles);
+
+    /// Forgets the remembered intersections and pending faces (the next sweep starts afresh).
+    void end_sweep();
+    /// Recomputes adjacency after external edits of the mesh (also forgets the sweep).
+    void rebuild();
+
+    /// Statistics of the last cut() call.
+    const SnapStats& stats() const;
+    const SnapOptions& options() const;
+    const mesh::Mesh& mesh() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+/// Aspect ratio of a tet: minimum height over maximum edge length (002 sec. 3.2.3); 0 for a flat
+/// tet, sqrt(2/3) for the regular one. Negative for a negatively oriented tet.
+double tet_aspect_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// Interior dihedral angles [rad] of a tet at its six edges, in the order (0,1), (0,2), (0,3),
+/// (1,2), (1,3), (2,3).
+std::array<double, 6> tet_dihedral_angles(
+    const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+} // namespace polycut::cut

@@ -1,0 +1,205 @@
+// Dissection along the selected faces (002 sec. 3.2, step 3): each face becomes two Cut boundary
+// faces, one per side, and every node of those faces is duplicated once per group of its tets that
+// are no longer connected through interior faces around it. Nodes at the crack front stay shared.
+//
+// A face set can pinch an edge: two cut faces around an edge (or one at a skin edge) split the
+// ring of tets around it while neither end node separates, so four boundary faces would meet at
+// the edge (a non-manifold boundary). The cell-splitting cutter fixes that with a midpoint node;
+// with a constant cell count we hold such faces back instead (newest first) and retry them after
+// later triangles, when the cut around them has grown and their nodes separate. This is the lag
+// between sweep and incision 002 Fig. 3.4 describes, one face row wider at a narrow crack tip.
+#include "snap_state.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <unordered_set>
+
+namespace polycut::cut::snap {
+namespace {
+bool has(const std::vector<Index>& v, Index x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+}
+
+struct Dsu {
+    explicit Dsu(std::size_t n)
+        : p(n) {
+        std::iota(p.begin(), p.end(), std::size_t(0));
+    }
+    std::size_t find(std::size_t a) {
+        while (p[a] != a)
+            a = p[a] = p[p[a]];
+        return a;
+    }
+    void join(std::size_t a, std::size_t b) { p[find(a)] = find(b); }
+    std::vector<std::size_t> p;
+};
+
+struct Pinch {
+    const State& s;
+    const std::unordered_set<Index>& extra; // faces to be cut on top of the boundary
+
+    bool cut(Index f) const { return at(s.m.faces, f).boundary() || extra.count(f) > 0; }
+
+    // Root of each cell of `cells` when joined through uncut faces containing all `keys`.
+    std::vector<std::size_t> groups(
+        const std::vector<Index>& cells, std::initializer_list<Index> keys) const {
+        Dsu d(cells.size());
+        for (std::size_t i = 0; i < cells.size(); ++i)
+            for (Index f : at(s.m.cells, cells[i]).faces) {
+                const mesh::Face& face = at(s.m.faces, f);
+                if (cut(f))
+                    continue;
+                bool all = true;
+                for (Index k : keys)
+                    all = all && has(face.nodes, k);
+                if (!all)
+                    continue;
+                const Index other = face.owner == cells[i] ? face.neighbour : face.owner;
+                const auto it = std::find(cells.begin(), cells.end(), other);
+                if (it != cells.end())
+                    d.join(i, std::size_t(it - cells.begin()));
+            }
+        std::vector<std::size_t> root(cells.size());
+        for (std::size_t i = 0; i < cells.size(); ++i)
+            root[i] = d.find(i);
+        return root;
+    }
+
+    bool pinched(Index a, Index b) const {
+        std::vector<Index> ring;
+        for (Index c : at(s.node_cells, a))
+            if (has(at(s.m.cells, c).nodes, b))
+                ring.push_back(c);
+        if (ring.size() < 2)
+            return false;
+        const auto rr = groups(ring, { a, b });
+        const auto& ca = at(s.node_cells, a);
+        const auto& cb = at(s.node_cells, b);
+        const auto ga = groups(ca, { a });
+        const auto gb = groups(cb, { b });
+        auto slot = [](const std::vector<Index>& v, Index c) {
+            return std::size_t(std::find(v.begin(), v.end(), c) - v.begin());
+        };
+        for (std::size_t i = 0; i < ring.size(); ++i)
+            for (std::size_t j = i + 1; j < ring.size(); ++j)
+                if (rr[i] != rr[j] && ga[slot(ca, ring[i])] == ga[slot(ca, ring[j])]
+                    && gb[slot(cb, ring[i])] == gb[slot(cb, ring[j])])
+                    return true;
+        return false;
+    }
+};
+
+void replace_node(std::vector<Index>& v, Index from, Index to) {
+    std::replace(v.begin(), v.end(), from, to);
+}
+
+void split_node(State& s, Index n) {
+    const std::vector<Index> cells = at(s.node_cells, n);
+    if (cells.size() < 2)
+        return;
+    const std::unordered_set<Index> none;
+    const auto root = Pinch { s, none }.groups(cells, { n });
+    std::vector<std::vector<Index>> groups;
+    std::vector<std::size_t> roots;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        const auto it = std::find(roots.begin(), roots.end(), root[i]);
+        if (it == roots.end()) {
+            roots.push_back(root[i]);
+            groups.push_back({ cells[i] });
+        } else {
+            groups[std::size_t(it - roots.begin())].push_back(cells[i]);
+        }
+    }
+    if (groups.size() < 2)
+        return;
+    for (auto& g : groups)
+        std::sort(g.begin(), g.end());
+    std::sort(groups.begin(), groups.end()); // the group with the smallest cell keeps n
+    at(s.node_cells, n) = groups.front();
+    for (std::size_t gi = 1; gi < groups.size(); ++gi) {
+        const Index copy = s.add_node(s.X(n), s.weights_of(n));
+        s.duplicated.emplace_back(n, copy);
+        at(s.node_cells, copy) = groups[gi];
+        for (Index c : groups[gi]) {
+            replace_node(at(s.m.cells, c).nodes, n, copy);
+            for (Index f : at(s.m.cells, c).faces)
+                replace_node(at(s.m.faces, f).nodes, n, copy);
+            s.touch(c);
+        }
+    }
+}
+} // namespace
+
+void dissect_pending(State& s) {
+    std::unordered_set<Index> take;
+    std::vector<Index> order;
+    for (Index f : s.pending)
+        if (!at(s.m.faces, f).boundary() && take.insert(f).second)
+            order.push_back(f);
+    if (order.empty()) {
+        s.pending.clear();
+        return;
+    }
+    // Hold back faces until no edge of a taken face is pinched. Holding a face back can only
+    // pinch edges at its own nodes, so only faces sharing a node with it are re-checked.
+    const Pinch pinch { s, take };
+    std::vector<Index> work(order.rbegin(), order.rend());
+    while (!work.empty()) {
+        const Index f = work.back();
+        work.pop_back();
+        if (!take.count(f))
+            continue;
+        const auto loop = at(s.m.faces, f).nodes;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Index a = loop[k], b = loop[(k + 1) % 3];
+            if (!pinch.pinched(a, b))
+                continue;
+            Index drop = kNone;
+            for (auto it = order.rbegin(); it != order.rend() && drop == kNone; ++it)
+                if (take.count(*it) && has(at(s.m.faces, *it).nodes, a)
+                    && has(at(s.m.faces, *it).nodes, b))
+                    drop = *it;
+            take.erase(drop);
+            const auto& dl = at(s.m.faces, drop).nodes;
+            for (Index g : order)
+                if (take.count(g))
+                    for (Index x : at(s.m.faces, g).nodes)
+                        if (has(dl, x)) {
+                            work.push_back(g);
+                            break;
+                        }
+            break;
+        }
+    }
+    std::vector<Index> still;
+    std::vector<Index> nodes;
+    for (Index f : order) {
+        if (!take.count(f)) {
+            still.push_back(f);
+            continue;
+        }
+        mesh::Face& face = at(s.m.faces, f);
+        const Index x = face.owner, y = face.neighbour;
+        mesh::Face twin;
+        twin.nodes.assign(face.nodes.rbegin(), face.nodes.rend());
+        twin.owner = y;
+        twin.tag = mesh::FaceTag::Cut;
+        twin.parent = f;
+        face.neighbour = kNone;
+        face.tag = mesh::FaceTag::Cut;
+        nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
+        const Index g = s.m.num_faces();
+        s.m.faces.push_back(std::move(twin));
+        replace_node(at(s.m.cells, y).faces, f, g);
+        s.touch(x);
+        s.touch(y);
+        ++s.stats.faces_dissected;
+    }
+    s.pending = std::move(still);
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    for (Index n : nodes)
+        split_node(s, n);
+}
+
+} // namespace polycut::cut::snap

@@ -1,0 +1,203 @@
+// Face selection by closest nodes (002 sec. 3.2.1, Fig. 3.1-3.4): every edge the sweep triangle
+// crosses marks its node closest to the crossing (the lower id on a tie); marks stay with the tet
+// between triangles (only the first crossing of an edge counts), and a tet whose marks name three
+// nodes selects the face of those nodes. Crossings are computed once per edge and triangle, so
+// all tets around an edge see the same mark and the selected surface is connected.
+#include "snap_state.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace polycut::cut::snap {
+namespace {
+// Node marked on edge (a, b), or kNone if the triangle does not cross it. Edges lying in the
+// plane are ignored: their nodes are marked by the edges that reach the plane at them.
+Index crossing(const State& s, const SweepPlane& P, double eps, Index a, Index b) {
+    const Vec3& Xa = s.X(a);
+    const Vec3& Xb = s.X(b);
+    double da = P.distance(Xa), db = P.distance(Xb);
+    if (std::abs(da) <= eps)
+        da = 0;
+    if (std::abs(db) <= eps)
+        db = 0;
+    if (da == 0 && db == 0)
+        return kNone;
+    if ((da > 0 && db > 0) || (da < 0 && db < 0))
+        return kNone;
+    const double t = da == 0 ? 0.0 : (db == 0 ? 1.0 : da / (da - db));
+    const Vec3 Q = Xa + t * (Xb - Xa);
+    for (int k = 0; k < 3; ++k) {
+        const Vec3& p = P.tri[std::size_t(k)];
+        const Vec3& q = P.tri[std::size_t((k + 1) % 3)];
+        if ((q - p).cross(Q - p).dot(P.normal) < -eps * (q - p).norm())
+            return kNone;
+    }
+    if (t < 0.5)
+        return a;
+    if (t > 0.5)
+        return b;
+    return std::min(a, b);
+}
+
+std::uint64_t edge_key(Index a, Index b) {
+    if (a > b)
+        std::swap(a, b);
+    return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+
+// Selects the face of tet c named by three marks (002 sec. 3.2.1).
+void evaluate(State& s, const SweepPlane& P, Index c, std::vector<Index>& found) {
+    const auto& mk = at(s.marks, c);
+    const auto& nodes = at(s.m.cells, c).nodes;
+    if (at(s.selected, c))
+        return;
+    std::array<bool, 4> marked {};
+    int count = 0;
+    for (std::int8_t k : mk)
+        if (k >= 0 && !marked[std::size_t(k)]) {
+            marked[std::size_t(k)] = true;
+            ++count;
+        }
+    if (count < 3)
+        return;
+    // Three marks select the face opposite the unmarked node. Four (all edges crossed at
+    // their middles, or two sweeps crossing the tet differently) select the face opposite
+    // the node farthest from the current plane (002 picks one at random).
+    int out = 0;
+    if (count == 3) {
+        while (marked[std::size_t(out)])
+            ++out;
+    } else {
+        double far = -1;
+        for (int k = 0; k < 4; ++k) {
+            const double d = std::abs(P.distance(s.X(nodes[std::size_t(k)])));
+            if (d > far) {
+                far = d;
+                out = k;
+            }
+        }
+    }
+    at(s.selected, c) = 1;
+    const Index f = s.global_face(c, kFaceOpposite[std::size_t(out)]);
+    if (f == kNone || at(s.m.faces, f).boundary())
+        return;
+    if (std::find(s.pending.begin(), s.pending.end(), f) != s.pending.end())
+        return;
+    s.pending.push_back(f);
+    found.push_back(f);
+    ++s.stats.faces_selected;
+}
+} // namespace
+
+std::vector<Index> select_faces(State& s, const SweepPlane& P) {
+    const double eps = s.opt.plane_eps * s.L;
+    geometry::Aabb tb;
+    for (const Vec3& p : P.tri)
+        tb.extend(p);
+    tb.lo.array() -= eps;
+    tb.hi.array() += eps;
+    std::unordered_map<std::uint64_t, Index> cache;
+    std::vector<Index> selected_now;
+    s.near.clear();
+    for (Index c = 0; c < s.m.num_cells(); ++c) {
+        if (!s.bounds(c).overlaps(tb))
+            continue;
+        s.near.push_back(c);
+        auto& mk = at(s.marks, c);
+        const auto& nodes = at(s.m.cells, c).nodes;
+        bool changed = false;
+        for (std::size_t e = 0; e < 6; ++e) {
+            if (mk[e] >= 0)
+                continue;
+            const auto [i, j] = kTetEdges[e];
+            const Index a = nodes[std::size_t(i)], b = nodes[std::size_t(j)];
+            auto [it, fresh] = cache.try_emplace(edge_key(a, b), kNone);
+            if (fresh) {
+                it->second = crossing(s, P, eps, a, b);
+                if (it->second != kNone)
+                    ++s.stats.edges_crossed;
+            }
+            if (it->second == kNone)
+                continue;
+            mk[e] = std::int8_t(it->second == a ? i : j);
+            changed = true;
+        }
+        if (changed)
+            evaluate(s, P, c, selected_now);
+    }
+    return selected_now;
+}
+
+std::vector<Index> mark_snapped_nodes(
+    State& s, const SweepPlane& P, const std::vector<Index>& nodes) {
+    // A snapped node lies on the sweep, so every edge at it now meets the sweep at the node. If
+    // the node moved into the part already swept, no later triangle would find those crossings
+    // and the tets around it would never complete; they are marked now.
+    const double eps = s.opt.plane_eps * s.L;
+    std::vector<Index> out;
+    for (Index v : nodes)
+        for (Index c : at(s.node_cells, v)) {
+            auto& mk = at(s.marks, c);
+            const auto& cn = at(s.m.cells, c).nodes;
+            bool changed = false;
+            for (std::size_t e = 0; e < 6; ++e) {
+                const auto [i, j] = kTetEdges[e];
+                if (mk[e] >= 0 || (cn[std::size_t(i)] != v && cn[std::size_t(j)] != v))
+                    continue;
+                const Index u = cn[std::size_t(i)] == v ? cn[std::size_t(j)] : cn[std::size_t(i)];
+                if (std::abs(P.distance(s.X(u))) <= eps)
+                    continue;
+                mk[e] = std::int8_t(cn[std::size_t(i)] == v ? i : j);
+                changed = true;
+            }
+            if (changed)
+                evaluate(s, P, c, out);
+        }
+    return out;
+}
+
+void select_faces_in_plane(State& s, const SweepPlane& P) {
+    // Snapping moves nodes marked by other tets or earlier triangles onto the plane too, and the
+    // per-tet rule above cannot see a face whose nodes were marked from outside its tets. Such a
+    // face lies in the sweep between tets on opposite sides of it; left uncut it would bridge
+    // the incision, so it is selected as well (an addition to 002 sec. 3.2.1).
+    const double eps = s.opt.plane_eps * s.L;
+    auto in_triangle = [&](const Vec3& Q) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& p = P.tri[std::size_t(k)];
+            const Vec3& q = P.tri[std::size_t((k + 1) % 3)];
+            if ((q - p).cross(Q - p).dot(P.normal) < -eps * (q - p).norm())
+                return false;
+        }
+        return true;
+    };
+    auto apex = [&](Index c, const std::vector<Index>& face) {
+        for (Index n : at(s.m.cells, c).nodes)
+            if (std::find(face.begin(), face.end(), n) == face.end())
+                return P.distance(s.X(n));
+        return 0.0;
+    };
+    for (Index c : s.near)
+        for (Index f : at(s.m.cells, c).faces) {
+            const mesh::Face& face = at(s.m.faces, f);
+            if (face.boundary() || face.owner != c)
+                continue;
+            Vec3 mid = Vec3::Zero();
+            bool on = true;
+            for (Index n : face.nodes) {
+                on = on && std::abs(P.distance(s.X(n))) <= eps;
+                mid += s.X(n) / 3.0;
+            }
+            if (!on || !in_triangle(mid))
+                continue;
+            const double d1 = apex(face.owner, face.nodes), d2 = apex(face.neighbour, face.nodes);
+            if (!((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)))
+                continue;
+            if (std::find(s.pending.begin(), s.pending.end(), f) != s.pending.end())
+                continue;
+            s.pending.push_back(f);
+            ++s.stats.faces_selected;
+        }
+}
+
+} // namespace polycut::cut::snap

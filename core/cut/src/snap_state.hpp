@@ -1,0 +1,114 @@
+// Private state of the face-snapping cutter (002 sec. 3.2): node-to-cell adjacency, per-tet
+// sweep/edge marks remembered between triangles, pending selected faces, and the per-call
+// bookkeeping from which the CutReport is made (pre-call ids of nodes and cells, interpolation
+// weights of new nodes, old rest positions of moved nodes).
+#pragma once
+
+#include "polycut/cut/snap_cutter.hpp"
+#include "polycut/geometry/polyhedron.hpp"
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace polycut::cut::snap {
+
+template <class V> inline auto& at(V& v, Index i) {
+    return v[std::size_t(i)];
+}
+
+using Weights = std::vector<std::pair<Index, double>>;
+
+/// Local edges of a tet, as local node pairs; the order of tet_dihedral_angles.
+inline constexpr std::array<std::array<int, 2>, 6> kTetEdges { { { 0, 1 }, { 0, 2 }, { 0, 3 },
+    { 1, 2 }, { 1, 3 }, { 2, 3 } } };
+
+/// Local face of a tet (index into mesh::kTetFaces) opposite local node k.
+inline constexpr std::array<int, 4> kFaceOpposite { 2, 3, 1, 0 };
+
+/// A sweep plane n . x = offset with the triangle it came from.
+struct SweepPlane {
+    Triangle tri;
+    Vec3 normal = Vec3::UnitZ(); ///< unit normal
+    double offset = 0; ///< [m]
+    double distance(const Vec3& x) const { return normal.dot(x) - offset; }
+};
+
+struct State {
+    State(mesh::Mesh& mesh, const SnapOptions& options);
+
+    mesh::Mesh& m;
+    SnapOptions opt;
+    SnapStats stats;
+    CutReport* report = nullptr;
+
+    double L = 1; ///< rest bounding-box diagonal [m]
+    Vec3 center; ///< rest bounding-box centre [m]
+    double volume0 = 0; ///< rest volume when bound [m^3] (budget of degeneracy removal)
+
+    std::vector<std::vector<Index>> node_cells;
+    /// Per tet and local edge: local node marked as closest to the first sweep crossing, or -1.
+    std::vector<std::array<std::int8_t, 6>> marks;
+    std::vector<char> selected; ///< per tet: a face was already selected from its marks
+    std::vector<Index> pending; ///< selected interior faces not dissected yet, in selection order
+    std::vector<Index> near; ///< tets whose bounds overlap the current triangle
+    std::vector<SweepPlane> recent; ///< the last triangles of the sweep, newest last
+    std::vector<geometry::Aabb> box; ///< rest bounds per tet
+    std::vector<char> box_ok;
+
+    // Per-call bookkeeping.
+    std::vector<Index> node_old; ///< current node -> id before the call, kNone if new
+    std::vector<Index> cell_old; ///< current cell -> id before the call, kNone if new
+    std::vector<Index> cell_parent; ///< new cell -> pre-call id of the cell it came from
+    std::unordered_map<Index, Weights> new_weights; ///< new node -> weights over pre-call ids
+    std::unordered_map<Index, Vec3> moved_from; ///< pre-existing node -> rest before the call
+    std::vector<char> changed; ///< per current cell
+    std::vector<std::pair<Index, Index>> duplicated;
+    std::vector<Index> removed_cells_old, removed_nodes_old;
+    bool compacted = false;
+
+    void rebuild();
+    void begin(CutReport& r);
+    void end();
+
+    const geometry::Aabb& bounds(Index c);
+    void touch(Index c);
+    /// Moves node n to X, recording its old position and touching its cells.
+    void move_node(Index n, const Vec3& X);
+    /// Appends a node with weights over pre-call nodes.
+    Index add_node(const Vec3& X, Weights w);
+    /// Weights of node n over pre-call nodes.
+    Weights weights_of(Index n) const;
+
+    const Vec3& X(Index n) const { return m.rest[std::size_t(n)]; }
+    /// Global face of tet c with the node set of its local face lf (kNone if none).
+    Index global_face(Index c, int lf) const;
+    /// Aspect ratio of tet c with node n moved to Xn (pass kNone for no move).
+    double aspect(Index c, Index n = kNone, const Vec3& Xn = Vec3::Zero()) const;
+};
+
+// snap_select.cpp: 002 sec. 3.2.1. Marks the crossings of the triangle and returns the newly
+// selected interior faces (appended to pending as well).
+std::vector<Index> select_faces(State& s, const SweepPlane& plane);
+
+/// Marks the edges at freshly snapped nodes (they meet the sweep at the node) and returns the
+/// faces this completes.
+std::vector<Index> mark_snapped_nodes(
+    State& s, const SweepPlane& plane, const std::vector<Index>& nodes);
+
+/// Selects interior faces lying in the triangle (after snapping) whose tets are on opposite sides.
+void select_faces_in_plane(State& s, const SweepPlane& plane);
+
+// snap_nodes.cpp: 002 sec. 3.2.2. Snaps the nodes of `faces` onto the sweep plane; returns the
+// nodes moved.
+std::vector<Index> snap_face_nodes(
+    State& s, const SweepPlane& plane, const std::vector<Index>& faces);
+
+// snap_dissect.cpp: dissects the pending faces that do not pinch an edge.
+void dissect_pending(State& s);
+
+// snap_degenerate.cpp: 002 sec. 3.2.3. Collapses degenerate tets among the changed cells.
+void remove_degeneracies(State& s);
+
+} // namespace polycut::cut::snap

@@ -1,0 +1,98 @@
+// Shared helpers of the face-snapping tests: Kuhn tet blocks, sweeps, invariants for method `tet`.
+#pragma once
+
+#include "polycut/cut/invariants.hpp"
+#include "polycut/cut/snap_cutter.hpp"
+#include "polycut/mesh/builders.hpp"
+
+#include <gtest/gtest.h>
+#include <vector>
+
+namespace snaptest {
+
+using namespace polycut;
+
+/// A cube [0, size]^3 of n^3 Kuhn blocks (6 n^3 tets).
+inline mesh::Mesh tet_block(int n, double size = 0.1) {
+    mesh::BoxGrid g;
+    g.lo = Vec3::Zero();
+    g.hi = Vec3::Constant(size);
+    g.cells = Eigen::Vector3i(n, n, n);
+    return mesh::tet_grid(g, mesh::TetSplit::Kuhn6);
+}
+
+/// Two triangles covering the square through `o` spanned by unit u, v (half-size r).
+inline std::vector<cut::Triangle> square(const Vec3& o, const Vec3& u, const Vec3& v, double r) {
+    const Vec3 a = o - r * u - r * v, b = o + r * u - r * v, c = o + r * u + r * v,
+               d = o - r * u + r * v;
+    return { { a, b, c }, { a, c, d } };
+}
+
+/// Issue 5 item 6 for face snapping: positive tets, closed oriented boundary, finite, consistent
+/// face table, rest volume within 1e-3 of v0.
+inline cut::CutInvariants expect_ok(const mesh::Mesh& m, double v0, double vtol = 1e-3) {
+    cut::InvariantOptions io;
+    io.volume_tol = vtol;
+    io.require_convex = false;
+    io.planarity_tol = 1e-9;
+    const auto inv = cut::check_cut_invariants(m, v0, io);
+    EXPECT_TRUE(inv.ok()) << inv.first_problem;
+    for (const auto& cell : m.cells)
+        EXPECT_EQ(cell.shape, mesh::CellShape::Tet);
+    return inv;
+}
+
+/// Weights of new nodes refer to pre-call nodes and sum to one; ids are in range.
+inline void expect_report_consistent(const mesh::Mesh& m, const cut::CutReport& r) {
+    EXPECT_EQ(r.nodes_after, m.num_nodes());
+    EXPECT_EQ(r.cells_after, m.num_cells());
+    for (const auto& o : r.new_nodes) {
+        double sum = 0;
+        for (const auto& [n, w] : o.weights) {
+            EXPECT_GE(n, 0);
+            EXPECT_LT(n, r.nodes_before);
+            sum += w;
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-12);
+        EXPECT_GE(o.node, 0);
+        EXPECT_LT(o.node, m.num_nodes());
+    }
+    for (const auto& [n, X0] : r.moved_nodes) {
+        EXPECT_GE(n, 0);
+        EXPECT_LT(n, m.num_nodes());
+        EXPECT_TRUE(X0.allFinite());
+    }
+    if (!r.node_map.empty()) {
+        EXPECT_EQ(Index(r.node_map.size()), r.nodes_before);
+    }
+    if (!r.cell_map.empty()) {
+        EXPECT_EQ(Index(r.cell_map.size()), r.cells_before);
+    }
+}
+
+inline std::size_t hash_mesh(const mesh::Mesh& m) {
+    std::size_t h = m.rest.size() * 1000003u + m.faces.size() * 7919u + m.cells.size();
+    for (const Vec3& x : m.rest)
+        h = h * 31 + std::hash<double>()(x.x() + 2 * x.y() + 3 * x.z());
+    for (const auto& f : m.faces) {
+        for (Index n : f.nodes)
+            h = h * 131 + std::size_t(n);
+        h = h * 7 + std::size_t(f.tag);
+    }
+    return h;
+}
+
+/// Sweep of a straight blade from `b0`-`b1` translated by `step` per sample (`samples` samples,
+/// two triangles per move).
+inline std::vector<cut::Triangle> blade_sweep(
+    const Vec3& b0, const Vec3& b1, const Vec3& step, int samples) {
+    std::vector<cut::Triangle> out;
+    for (int i = 0; i + 1 < samples; ++i) {
+        const Vec3 p = b0 + double(i) * step, q = b1 + double(i) * step;
+        out.push_back({ p, q, Vec3(q + step) });
+        out.push_back({ p, Vec3(q + step), Vec3(p + step) });
+    }
+    return out;
+}
+
+} // namespace snaptest

@@ -1,0 +1,230 @@
+// Face snapping (002 sec. 3.2): halves, progressive incision, special positions (node, edge,
+// face plane, tangent, outside), bad input, repetition, quality measures.
+#include "polycut/common/error.hpp"
+#include "polycut/geometry/polygon.hpp"
+#include "test_snap_common.hpp"
+
+#include <cmath>
+#include <numbers>
+
+using namespace polycut;
+using namespace snaptest;
+
+TEST(SnapQuality, AspectRatioAndDihedralsOfKnownTets) {
+    // Regular tet of edge 1: height sqrt(2/3), dihedral angles acos(1/3).
+    const Vec3 a(0, 0, 0), b(1, 0, 0), c(0.5, std::sqrt(3.0) / 2, 0),
+        d(0.5, std::sqrt(3.0) / 6, std::sqrt(2.0 / 3.0));
+    EXPECT_NEAR(cut::tet_aspect_ratio(a, b, c, d), std::sqrt(2.0 / 3.0), 1e-12);
+    for (double t : cut::tet_dihedral_angles(a, b, c, d))
+        EXPECT_NEAR(t, std::acos(1.0 / 3.0), 1e-12);
+    // Orthogonal corner tet: three right dihedrals at the corner edges, aspect = h_min / sqrt(2).
+    const Vec3 o(0, 0, 0), x(1, 0, 0), y(0, 1, 0), z(0, 0, 1);
+    const auto ang = cut::tet_dihedral_angles(o, x, y, z);
+    for (int e = 0; e < 3; ++e)
+        EXPECT_NEAR(ang[std::size_t(e)], std::numbers::pi / 2, 1e-12);
+    EXPECT_NEAR(cut::tet_aspect_ratio(o, x, y, z), (1 / std::sqrt(3.0)) / std::sqrt(2.0), 1e-12);
+    // A cap: apex just above the centroid of the base has three large angles at its edges.
+    const Vec3 cap(0.5, std::sqrt(3.0) / 6, 1e-4);
+    const auto cang = cut::tet_dihedral_angles(a, b, c, cap);
+    int large = 0;
+    for (double t : cang)
+        large += t > 0.99 * std::numbers::pi ? 1 : 0;
+    EXPECT_EQ(large, 3);
+    EXPECT_LT(cut::tet_aspect_ratio(a, b, c, cap), 0.01);
+    EXPECT_LT(cut::tet_aspect_ratio(b, a, c, d), 0); // inverted
+}
+
+TEST(SnapCut, RejectsNonTetMeshes) {
+    mesh::BoxGrid g;
+    auto hexes = mesh::hex_grid(g);
+    EXPECT_THROW(cut::SnapCutter cutter(hexes), InputError);
+}
+
+TEST(SnapCut, BlockCutInHalves) {
+    auto m = tet_block(6);
+    const double v0 = m.rest_volume();
+    const Index cells0 = m.num_cells();
+    cut::SnapCutter cutter(m);
+    const Vec3 n = Vec3(1, 0.2, 0.1).normalized();
+    const Vec3 u = n.cross(Vec3::UnitZ()).normalized(), v = n.cross(u);
+    const auto r = cutter.cut(square(Vec3(0.0513, 0.05, 0.05), u, v, 0.2));
+    const auto inv = expect_ok(m, v0);
+    EXPECT_EQ(inv.components, 2);
+    EXPECT_EQ(inv.surface_components, 2);
+    expect_report_consistent(m, r);
+    EXPECT_TRUE(r.pattern_changed);
+    EXPECT_FALSE(r.cut_faces.empty());
+    EXPECT_EQ(cutter.stats().faces_pending, 0);
+    // Constant cell count except for degeneracy removal.
+    EXPECT_EQ(m.num_cells() + Index(r.removed_cells.size()) - Index(r.new_cells.size()), cells0);
+    EXPECT_LT(cutter.stats().volume_change, 1e-3);
+    // Snapping puts the cut surface on the sweep plane: every Cut face node within 1e-9 of it,
+    // except nodes whose move was refused.
+    Index off = 0;
+    for (const auto& f : m.faces)
+        if (f.tag == mesh::FaceTag::Cut)
+            for (Index k : f.nodes)
+                off += std::abs(n.dot(m.rest[std::size_t(k)] - Vec3(0.0513, 0.05, 0.05))) > 1e-9;
+    EXPECT_LE(off, 3 * cutter.stats().snaps_refused);
+    std::cout << "halves: " << r.cut_faces.size() << " cut faces, snapped "
+              << cutter.stats().nodes_snapped << ", refused " << cutter.stats().snaps_refused
+              << ", degenerate " << cutter.stats().degenerate_found << " collapsed "
+              << cutter.stats().edges_collapsed << " left " << cutter.stats().degenerate_left
+              << ", volume change " << cutter.stats().volume_change << "\n";
+}
+
+TEST(SnapCut, CutInFacePlaneMovesNothing) {
+    auto m = tet_block(6);
+    const double v0 = m.rest_volume();
+    const Index cells0 = m.num_cells();
+    cut::SnapCutter cutter(m);
+    const auto r = cutter.cut(square(Vec3(0.05, 0.05, 0.05), Vec3::UnitY(), Vec3::UnitZ(), 0.2));
+    const auto inv = expect_ok(m, v0, 1e-12);
+    EXPECT_EQ(inv.components, 2);
+    EXPECT_EQ(m.num_cells(), cells0);
+    EXPECT_TRUE(r.moved_nodes.empty());
+    // The grid plane x = 0.05 carries the cut: 2 x 6 x 6 squares of two triangles on each side.
+    double area = 0;
+    for (Index f : r.cut_faces)
+        area += geometry::polygon_area(geometry::gather(m.rest, m.faces[std::size_t(f)].nodes));
+    EXPECT_NEAR(area, 2 * 0.1 * 0.1, 1e-14);
+    EXPECT_EQ(r.cut_faces.size(), 144u);
+    EXPECT_EQ(r.duplicated.size(), 49u); // 7 x 7 grid nodes in the plane
+}
+
+TEST(SnapCut, CutThroughNodesAndAlongEdges) {
+    // Through grid nodes (plane x + y + z = 0.15 hits nodes with i + j + k = 9).
+    {
+        auto m = tet_block(6);
+        const double v0 = m.rest_volume();
+        cut::SnapCutter cutter(m);
+        const Vec3 u = Vec3(1, -1, 0).normalized(), v = Vec3(1, 1, -2).normalized();
+        const auto r = cutter.cut(square(Vec3(0.05, 0.05, 0.05), u, v, 0.3));
+        EXPECT_EQ(expect_ok(m, v0).components, 2);
+        expect_report_consistent(m, r);
+    }
+    // Along Kuhn diagonals: the plane x = y holds the main diagonal of every block on it.
+    {
+        auto m = tet_block(6);
+        const double v0 = m.rest_volume();
+        cut::SnapCutter cutter(m);
+        const Vec3 u = Vec3(1, 1, 0).normalized();
+        const auto r = cutter.cut(square(Vec3(0.05, 0.05, 0.05), u, Vec3::UnitZ(), 0.3));
+        const auto inv = expect_ok(m, v0, 1e-12);
+        EXPECT_EQ(inv.components, 2);
+        EXPECT_TRUE(r.moved_nodes.empty()); // every selected face already lies in the plane
+    }
+}
+
+TEST(SnapCut, TangentAndOutsideChangeNothing) {
+    auto m = tet_block(3);
+    const std::size_t h0 = hash_mesh(m);
+    cut::SnapCutter cutter(m);
+    // In the top skin plane.
+    auto r = cutter.cut(square(Vec3(0.05, 0.05, 0.1), Vec3::UnitX(), Vec3::UnitY(), 0.2));
+    EXPECT_EQ(hash_mesh(m), h0);
+    EXPECT_TRUE(r.cut_faces.empty());
+    EXPECT_FALSE(r.topology_changed);
+    cutter.end_sweep(); // an unrelated sweep: forget the crossings of the first
+    // Along a side face, perpendicular to the skin, touching it only along a line.
+    r = cutter.cut(square(Vec3(0.05, 0.0, 0.05), Vec3::UnitX(), Vec3::UnitZ(), 0.2));
+    EXPECT_EQ(hash_mesh(m), h0);
+    cutter.end_sweep();
+    // Outside.
+    r = cutter.cut(square(Vec3(0.5, 0.5, 0.5), Vec3::UnitX(), Vec3::UnitY(), 0.1));
+    EXPECT_EQ(hash_mesh(m), h0);
+    EXPECT_EQ(r.triangles_missed, 2);
+    EXPECT_FALSE(r.topology_changed);
+}
+
+TEST(SnapCut, BadTrianglesThrowAndChangeNothing) {
+    auto m = tet_block(3);
+    const std::size_t h0 = hash_mesh(m);
+    cut::SnapCutter cutter(m);
+    const Vec3 p(0.05, 0.05, 0.05);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<std::vector<cut::Triangle>> bad {
+        { { p, p, Vec3(p + Vec3::UnitX()) } }, // zero area
+        { { p, Vec3(p + Vec3::UnitX()), Vec3(p + 2 * Vec3::UnitX()) } }, // collinear
+        { { p, Vec3(nan, 0, 0), Vec3(0, 0, 1) } }, // NaN
+        { { p, Vec3(1e9, 0, 0), Vec3(0, 1e9, 0) } }, // huge
+        { square(p, Vec3::UnitX(), Vec3::UnitY(), 0.2)[0], { p, p, p } }, // one bad of two
+    };
+    for (const auto& tris : bad) {
+        EXPECT_THROW(cutter.cut(tris), InputError);
+        EXPECT_EQ(hash_mesh(m), h0);
+    }
+}
+
+TEST(SnapCut, ProgressiveIncisionStaysConnected) {
+    auto m = tet_block(6);
+    const double v0 = m.rest_volume();
+    const Index cells0 = m.num_cells();
+    cut::SnapCutter cutter(m);
+    // A blade spanning the block's height moves in y through a tilted plane, 1 mm per sample:
+    // 120 small triangles, one call each (one per tick).
+    const Vec3 n = Vec3(1, 0.15, 0.05).normalized();
+    const Vec3 t = Vec3::UnitY() - n.y() * n; // in-plane direction of travel
+    const Vec3 b0 = Vec3(0.047, -0.005, -0.02), b1 = b0 + 0.14 * n.cross(t).normalized();
+    const auto tris = blade_sweep(b0, b1, 1e-3 * t.normalized(), 121);
+    Index components = 1, cut_faces = 0, removed = 0, added = 0;
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+        const auto r = cutter.cut(std::span(&tris[i], 1));
+        expect_report_consistent(m, r);
+        removed += Index(r.removed_cells.size());
+        added += Index(r.new_cells.size());
+        cut_faces += Index(r.cut_faces.size());
+        const auto inv = expect_ok(m, v0);
+        ASSERT_TRUE(inv.ok()) << "after triangle " << i;
+        EXPECT_GE(inv.components, components); // never re-attached
+        components = inv.components;
+    }
+    EXPECT_EQ(components, 2); // the blade has crossed the whole block
+    EXPECT_EQ(m.num_cells(), cells0 + added - removed);
+    EXPECT_GT(cut_faces, 72);
+}
+
+TEST(SnapCut, PartialIncisionEndsInside) {
+    // A cut entering from the top and ending inside: one component, an open crack.
+    auto m = tet_block(6);
+    const double v0 = m.rest_volume();
+    cut::SnapCutter cutter(m);
+    const Vec3 n = Vec3(1, 0.1, 0.0).normalized();
+    const Vec3 u = n.cross(Vec3::UnitZ()).normalized();
+    const auto tris = square(Vec3(0.052, 0.05, 0.1), u, Vec3::UnitZ(), 0.05);
+    const auto r = cutter.cut(tris);
+    const auto inv = expect_ok(m, v0);
+    EXPECT_EQ(inv.components, 1);
+    EXPECT_FALSE(r.duplicated.empty()); // opened at the top
+    EXPECT_EQ(inv.surface_components, 1);
+}
+
+TEST(SnapCut, RepeatedCutsAreStable) {
+    auto m = tet_block(4);
+    const double v0 = m.rest_volume();
+    cut::SnapCutter cutter(m);
+    const Vec3 n = Vec3(1, 0.3, 0.2).normalized();
+    const Vec3 u = n.cross(Vec3::UnitZ()).normalized(), v = n.cross(u);
+    const auto tris = square(Vec3(0.049, 0.05, 0.05), u, v, 0.2);
+    cutter.cut(tris);
+    expect_ok(m, v0);
+    const std::size_t h1 = hash_mesh(m);
+    // The same sweep again: its crossings are remembered, nothing changes.
+    for (int i = 0; i < 100; ++i) {
+        const auto r = cutter.cut(tris);
+        EXPECT_TRUE(r.new_nodes.empty());
+        EXPECT_FALSE(r.topology_changed);
+    }
+    EXPECT_EQ(hash_mesh(m), h1);
+    // As new sweeps (crossings forgotten): the mesh settles after the first repeat and stays.
+    std::size_t h2 = 0;
+    for (int i = 0; i < 100; ++i) {
+        cutter.end_sweep();
+        cutter.cut(tris);
+        ASSERT_TRUE(expect_ok(m, v0).ok()) << "repeat " << i;
+        if (i == 2)
+            h2 = hash_mesh(m);
+    }
+    EXPECT_EQ(hash_mesh(m), h2);
+    EXPECT_EQ(expect_ok(m, v0).components, 2);
+}
