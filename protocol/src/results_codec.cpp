@@ -157,6 +157,24 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         s.clients = m.u32("clients");
         s.forces = m.u32("forces");
         s.grabs = m.u32("grabs");
+        if (const json* v = m.r.optional("state_hash"); v != nullptr) {
+            s.state_hash = read_string(*v, m.r.at("state_hash"), 64, kCode);
+        }
+        if (const json* v = m.r.optional("stream_dropped"); v != nullptr) {
+            s.stream_dropped = read_uint(*v, m.r.at("stream_dropped"), 0, kU64, kCode);
+        }
+        if (const json* v = m.r.optional("open_strokes"); v != nullptr) {
+            s.open_strokes = static_cast<std::uint32_t>(
+                read_uint(*v, m.r.at("open_strokes"), 0, kU32, kCode));
+        }
+        if (const json* v = m.r.optional("cached_replies"); v != nullptr) {
+            s.cached_replies = static_cast<std::uint32_t>(
+                read_uint(*v, m.r.at("cached_replies"), 0, kU32, kCode));
+        }
+        if (const json* v = m.r.optional("client_states"); v != nullptr) {
+            s.client_states = static_cast<std::uint32_t>(
+                read_uint(*v, m.r.at("client_states"), 0, kU32, kCode));
+        }
         return s;
     }
     }
@@ -212,6 +230,13 @@ json encode_result_json(const Result& result, Message& frames) {
                     { "step_ms_p99", r.step_ms_p99 }, { "requests", r.requests },
                     { "errors", r.errors }, { "clients", r.clients }, { "forces", r.forces },
                     { "grabs", r.grabs } };
+                if (!r.state_hash.empty()) {
+                    out["state_hash"] = r.state_hash;
+                }
+                out["stream_dropped"] = r.stream_dropped;
+                out["open_strokes"] = r.open_strokes;
+                out["cached_replies"] = r.cached_replies;
+                out["client_states"] = r.client_states;
             }
         },
         result);

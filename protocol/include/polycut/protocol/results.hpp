@@ -96,6 +96,12 @@ struct Stats {
     std::uint32_t clients = 0; ///< distinct control peers seen in the last 10 s
     std::uint32_t forces = 0; ///< active forces
     std::uint32_t grabs = 0; ///< active grabs
+    // Server-side extras (optional on the wire; absent from older servers).
+    std::string state_hash; ///< hash of the simulation state, 16 hex digits ("" = not reported)
+    std::uint64_t stream_dropped = 0; ///< stream messages the PUB socket refused to queue
+    std::uint32_t open_strokes = 0; ///< scalpel strokes open over all clients
+    std::uint32_t cached_replies = 0; ///< replies held by the retry cache
+    std::uint32_t client_states = 0; ///< control peers the server holds state for
     bool operator==(const Stats&) const = default;
 };
 

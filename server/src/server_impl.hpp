@@ -1,0 +1,124 @@
+// Private state of polycut::server::Server, shared by server.cpp (loop and schedule),
+// server_control.cpp (requests) and server_stream.cpp (publishing). Single-threaded: only the
+// loop thread touches it.
+#pragma once
+
+#include "polycut/protocol/protocol.hpp"
+#include "server.hpp"
+#include "server_command_log.hpp"
+#include "server_reply_cache.hpp"
+#include "server_session.hpp"
+
+#include <zmq.hpp>
+
+#include <chrono>
+#include <deque>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace polycut::server {
+
+using Clock = std::chrono::steady_clock;
+
+/// What the server keeps per control peer (routing identity).
+struct ClientInfo {
+    double last_seen_s = 0.0; ///< monotonic [s]
+    double tokens = 0.0; ///< rate limit bucket
+};
+
+/// A `step` request waiting for its ticks.
+struct PendingStep {
+    protocol::Message envelope;
+    std::optional<protocol::RequestId> id; ///< nullopt: a notification, no reply
+    std::uint32_t remaining = 0;
+};
+
+struct Server::Impl {
+    Impl(ServerConfig config, std::atomic<bool>& stop);
+
+    // --- server.cpp: schedule and loop
+    void run();
+    void run_tick();
+    double now_s() const;
+    double period_ms() const { return 1000.0 / rate_hz; }
+    void set_rate(double hz);
+    void housekeeping();
+    void log_line();
+
+    // --- server_control.cpp: requests
+    /// Waits up to `timeout_ms` for control traffic, then handles what is queued (bounded).
+    void service_control(long timeout_ms);
+    /// Receives one message (frame-count cap, rest drained); false when none is queued.
+    bool receive(protocol::Message& frames, std::size_t& total_frames);
+    void handle(protocol::Message frames, std::size_t total_frames);
+    void dispatch(const protocol::Message& envelope, const protocol::Request& request);
+    void reply(const protocol::Message& envelope, protocol::Message body);
+    void reply_error(const protocol::Message& envelope, const protocol::RequestId& id,
+        const protocol::RpcError& error);
+    void reject_notification(std::string_view method, const protocol::RpcError& error);
+    ClientInfo& touch_client(const std::string& identity);
+    protocol::HelloResult hello() const;
+    protocol::RunState run_state() const;
+    protocol::Stats stats() const;
+    void finish_steps();
+
+    // --- server_stream.cpp: publishing
+    /// Publishes the current surface as the next stream frame and caches it for get_surface.
+    void publish_surface(const sim::StepReport& report, bool force_topology);
+    void publish_event(std::string kind, std::string detail_json, std::uint64_t seq);
+    void send_stream(const protocol::Message& message);
+    protocol::SurfaceSnapshot snapshot() const;
+
+    ServerConfig config;
+    std::atomic<bool>& stop;
+    zmq::context_t context { 1 };
+    zmq::socket_t control;
+    zmq::socket_t stream;
+    std::string control_endpoint;
+    std::string stream_endpoint;
+
+    Session session;
+    std::unique_ptr<CommandLog> command_log;
+    ReplyCache reply_cache;
+    std::map<std::string, ClientInfo, std::less<>> clients;
+
+    // Run state and schedule (absolute: deadline k = anchor + k * period).
+    bool running = true;
+    double rate_hz = 60.0;
+    Clock::time_point start_time;
+    Clock::time_point anchor;
+    std::int64_t ticks_since_anchor = 0;
+    Clock::time_point next_deadline;
+    std::deque<PendingStep> pending_steps;
+    bool shutting_down = false;
+
+    // Stream state.
+    std::uint64_t seq = 0; ///< last published seq (0: none yet)
+    std::uint64_t published_topology = 0; ///< topology_version of the last published arrays
+    bool topology_pending = true; ///< next frame carries triangles and tags
+    protocol::SurfaceHeader last_header;
+    std::vector<float> last_positions;
+    std::vector<std::uint32_t> last_triangles;
+    std::vector<std::uint8_t> last_tags;
+    std::vector<protocol::RequestId> applied; ///< ids applied since the last frame
+    std::optional<protocol::RequestId> last_cut_id; ///< for the topology event
+    std::uint64_t stream_dropped = 0;
+
+    // Accounting.
+    std::uint64_t requests = 0;
+    std::uint64_t errors = 0;
+    std::uint64_t ticks_over_budget = 0;
+    std::uint64_t ticks_total = 0;
+    double worst_tick_ms = 0.0;
+    double command_ms_since_tick = 0.0; ///< command work since the last tick [ms]
+    std::deque<std::pair<double, double>> recent_steps; ///< (time [s], step [ms]), last second
+    double step_p50_ms = 0.0, step_p99_ms = 0.0;
+    double last_log_s = 0.0;
+    std::uint64_t ticks_at_last_log = 0;
+    double last_overrun_event_s = -1e9;
+    double last_housekeeping_s = 0.0;
+};
+
+} // namespace polycut::server

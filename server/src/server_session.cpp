@@ -1,0 +1,429 @@
+// Session: the protocol's commands applied to sim::Simulation (see server_session.hpp).
+#include "server_session.hpp"
+
+#include "polycut/common/error.hpp"
+#include "polycut/protocol/sweep.hpp"
+#include "polycut/scene/scene.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <type_traits>
+
+namespace polycut::server {
+
+namespace {
+
+using protocol::ErrorCode;
+using protocol::make_error;
+using protocol::RpcError;
+
+/// A result that did not change the scene.
+Applied done(protocol::Result result) { return Applied { std::move(result), false, {} }; }
+
+Vec3 to_vec(const protocol::Vector3& v) { return Vec3(v[0], v[1], v[2]); }
+
+/// Sim InputError locations are relative ("triangles/3/1"); make them a pointer under `base`.
+std::string pointer_under(std::string_view base, const std::string& where) {
+    std::string out(base);
+    if (where.empty()) {
+        return out;
+    }
+    // The sim names its argument "triangles"; the wire pointer already ends with it.
+    std::string_view rest(where);
+    if (rest.starts_with("triangles")) {
+        rest.remove_prefix(std::strlen("triangles"));
+    }
+    if (!rest.empty() && rest.front() != '/') {
+        out += '/';
+    }
+    out += rest;
+    return out;
+}
+
+/// A file-based geometry in an inline scene may only name a file under the scene directory.
+std::optional<RpcError> check_inline_paths(const scene::Scene& s) {
+    using Kind = scene::Geometry::Kind;
+    if (s.geometry.kind != Kind::SurfaceFile && s.geometry.kind != Kind::MeshFile) {
+        return std::nullopt;
+    }
+    const std::filesystem::path p(s.geometry.path);
+    bool escapes = p.is_absolute() || p.has_root_name() || p.has_root_directory();
+    for (const auto& part : p) {
+        escapes = escapes || part == "..";
+    }
+    if (escapes) {
+        return make_error(ErrorCode::SceneError, "/params/scene/geometry/path",
+            "an inline scene may only name files relative to the server's scene directory");
+    }
+    return std::nullopt;
+}
+
+} // namespace
+
+Session::Session(SessionConfig config)
+    : m_config(std::move(config))
+    , m_strokes(m_config.strokes) { }
+
+Session::~Session() = default;
+
+bool Session::is_mutation(protocol::Method method) {
+    using M = protocol::Method;
+    switch (method) {
+    case M::LoadScene:
+    case M::Reset:
+    case M::ApplyForce:
+    case M::RemoveForce:
+    case M::Grab:
+    case M::MoveGrab:
+    case M::Release:
+    case M::Cut:
+    case M::Scalpel:
+    case M::EndStroke:
+        return true;
+    default:
+        return false;
+    }
+}
+
+void Session::load_scene_file(const std::string& path) {
+    scene::Scene scene = scene::load_scene(path);
+    std::string name = scene.name.empty() ? std::filesystem::path(path).stem().string()
+                                          : scene.name;
+    install(std::make_unique<sim::Simulation>(std::move(scene)), std::move(name));
+}
+
+void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
+    m_sim = std::move(sim);
+    m_scene_name = std::move(name);
+    m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+    m_forces.clear();
+    m_grabs.clear();
+    m_strokes.clear();
+}
+
+std::int64_t Session::tick() const { return m_sim ? m_sim->tick() : 0; }
+double Session::sim_time() const { return m_sim ? m_sim->time() : 0.0; }
+std::uint64_t Session::topology_version() const { return m_sim ? m_sim->topology_version() : 0; }
+
+ApplyOutcome Session::apply(
+    const protocol::Params& params, std::string_view client, double now_s) {
+    using protocol::Method;
+    const Method method = protocol::method_of(params);
+    if (method != Method::LoadScene && !m_sim) {
+        return make_error(ErrorCode::SimulationError, "", "no scene is loaded (call load_scene)");
+    }
+    try {
+        return std::visit(
+            [&](const auto& p) -> ApplyOutcome {
+                using T = std::decay_t<decltype(p)>;
+                if constexpr (std::is_same_v<T, protocol::LoadSceneParams>) {
+                    return load_scene(p);
+                } else if constexpr (std::is_same_v<T, protocol::ResetParams>) {
+                    return reset();
+                } else if constexpr (std::is_same_v<T, protocol::ApplyForceParams>) {
+                    return apply_force(p);
+                } else if constexpr (std::is_same_v<T, protocol::RemoveForceParams>) {
+                    return remove_force(p);
+                } else if constexpr (std::is_same_v<T, protocol::GrabParams>) {
+                    return grab(p);
+                } else if constexpr (std::is_same_v<T, protocol::MoveGrabParams>) {
+                    return move_grab(p);
+                } else if constexpr (std::is_same_v<T, protocol::ReleaseParams>) {
+                    return release(p);
+                } else if constexpr (std::is_same_v<T, protocol::CutParams>) {
+                    return cut(p);
+                } else if constexpr (std::is_same_v<T, protocol::ScalpelParams>) {
+                    return scalpel(p, client, now_s);
+                } else if constexpr (std::is_same_v<T, protocol::EndStrokeParams>) {
+                    return end_stroke(p, client);
+                } else {
+                    return make_error(ErrorCode::InternalError, "/method",
+                        "not a simulation command: " + std::string(protocol::method_name(method)));
+                }
+            },
+            params);
+    } catch (const std::exception& e) {
+        // The sim promises InputError without change; anything else is a bug, never a crash.
+        return make_error(ErrorCode::InternalError, "", e.what());
+    }
+}
+
+sim::StepReport Session::step() {
+    if (!m_sim) {
+        return {};
+    }
+    sim::StepReport report = m_sim->step();
+    if (report.topology_changed) {
+        m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+    }
+    prune_expired_forces();
+    return report;
+}
+
+void Session::prune_expired_forces() {
+    const double t = m_sim->time();
+    std::erase_if(m_forces, [&](const auto& entry) {
+        return entry.second.expires > 0 && t > entry.second.expires + 1e-12;
+    });
+}
+
+void Session::drop_client(std::string_view client) { m_strokes.drop_client(client); }
+void Session::expire(double now_s) { m_strokes.expire(now_s); }
+
+ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
+    std::unique_ptr<sim::Simulation> sim;
+    std::string name;
+    try {
+        if (p.name) {
+            const auto path = std::filesystem::path(m_config.scene_dir) / (*p.name + ".json");
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(path, ec)) {
+                return make_error(ErrorCode::SceneError, "/params/name",
+                    "no scene named \"" + *p.name + "\" in the server's scene directory");
+            }
+            scene::Scene scene = scene::load_scene(path.string());
+            name = *p.name;
+            sim = std::make_unique<sim::Simulation>(std::move(scene));
+        } else {
+            scene::Scene scene = scene::parse_scene(*p.scene_json, m_config.scene_dir);
+            if (auto bad = check_inline_paths(scene)) {
+                return *bad;
+            }
+            name = "inline";
+            sim = std::make_unique<sim::Simulation>(std::move(scene));
+        }
+    } catch (const SceneError& e) {
+        if (p.name) {
+            return make_error(ErrorCode::SceneError, "/params/name",
+                "scene file invalid at " + e.where() + ": " + e.problem());
+        }
+        return make_error(ErrorCode::SceneError, "/params/scene" + e.where(), e.problem());
+    } catch (const Error& e) {
+        return make_error(ErrorCode::SceneError, p.name ? "/params/name" : "/params/scene",
+            e.what());
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::SceneError, p.name ? "/params/name" : "/params/scene",
+            std::string("the scene could not be built: ") + e.what());
+    }
+    install(std::move(sim), name);
+    protocol::SceneResult r;
+    r.tick = 0;
+    r.name = m_scene_name;
+    r.topology_version = m_sim->topology_version();
+    const sim::Surface surface = m_sim->surface();
+    r.vertex_count = static_cast<std::uint32_t>(surface.positions.size() / 3);
+    r.triangle_count = static_cast<std::uint32_t>(surface.triangles.size() / 3);
+    r.cell_count = m_cells;
+    return Applied { r, true, "load" };
+}
+
+ApplyOutcome Session::reset() {
+    m_sim->reset();
+    m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+    m_forces.clear();
+    m_grabs.clear();
+    m_strokes.clear();
+    return Applied { protocol::RunState { 0, false, 0.0 }, true, "reset" };
+}
+
+ApplyOutcome Session::apply_force(const protocol::ApplyForceParams& p) {
+    sim::ForceSpec spec;
+    spec.point = to_vec(p.point);
+    spec.force = to_vec(p.force);
+    spec.radius = p.radius;
+    spec.duration = p.duration.value_or(0.0);
+    ForceEntry entry;
+    try {
+        entry.sim_id = m_sim->add_force(spec);
+    } catch (const InputError& e) {
+        return make_error(ErrorCode::InvalidParams, "/params/" + e.where(), e.problem());
+    }
+    entry.expires = p.duration ? m_sim->time() + *p.duration : 0.0;
+    entry.spec = { p.point[0], p.point[1], p.point[2], p.force[0], p.force[1], p.force[2],
+        p.radius };
+    const std::uint64_t id = m_next_id++;
+    m_forces.emplace(id, entry);
+    return done(protocol::Created { id, effect_tick() });
+}
+
+ApplyOutcome Session::remove_force(const protocol::RemoveForceParams& p) {
+    auto it = m_forces.find(p.id);
+    if (it == m_forces.end()) {
+        return make_error(ErrorCode::NotFound, "/params/id",
+            "no active force with id " + std::to_string(p.id));
+    }
+    m_sim->remove_force(it->second.sim_id);
+    m_forces.erase(it);
+    return done(protocol::Ack { effect_tick() });
+}
+
+ApplyOutcome Session::grab(const protocol::GrabParams& p) {
+    sim::GrabSpec spec;
+    spec.point = to_vec(p.point);
+    spec.stiffness = p.stiffness.value_or(protocol::kDefaultGrabStiffness);
+    // Absent radius: the single material point nearest `point` (the sim falls back to the
+    // nearest node when none lies within the radius).
+    spec.radius = p.radius.value_or(1e-9);
+    GrabEntry entry;
+    try {
+        entry.sim_id = m_sim->grab(spec);
+    } catch (const InputError& e) {
+        return make_error(ErrorCode::InvalidParams, "/params/" + e.where(), e.problem());
+    }
+    entry.target = p.point;
+    entry.spec = { p.point[0], p.point[1], p.point[2], spec.stiffness, spec.radius };
+    const std::uint64_t id = m_next_id++;
+    m_grabs.emplace(id, entry);
+    return done(protocol::Created { id, effect_tick() });
+}
+
+ApplyOutcome Session::move_grab(const protocol::MoveGrabParams& p) {
+    auto it = m_grabs.find(p.id);
+    if (it == m_grabs.end()) {
+        return make_error(
+            ErrorCode::NotFound, "/params/id", "no active grab with id " + std::to_string(p.id));
+    }
+    try {
+        if (!m_sim->move_grab(it->second.sim_id, to_vec(p.target))) {
+            return make_error(ErrorCode::NotFound, "/params/id",
+                "grab " + std::to_string(p.id) + " is gone from the simulation");
+        }
+    } catch (const InputError& e) {
+        return make_error(ErrorCode::InvalidParams, "/params/target", e.problem());
+    }
+    it->second.target = p.target;
+    return done(protocol::Ack { effect_tick() });
+}
+
+ApplyOutcome Session::release(const protocol::ReleaseParams& p) {
+    auto it = m_grabs.find(p.id);
+    if (it == m_grabs.end()) {
+        return make_error(
+            ErrorCode::NotFound, "/params/id", "no active grab with id " + std::to_string(p.id));
+    }
+    m_sim->release(it->second.sim_id);
+    m_grabs.erase(it);
+    return done(protocol::Ack { effect_tick() });
+}
+
+protocol::Expected<sim::CutSummary, RpcError> Session::run_cut(
+    const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer) {
+    try {
+        sim::CutSummary summary = m_sim->cut(triangles);
+        m_cells = static_cast<std::uint32_t>(summary.cells_after);
+        return summary;
+    } catch (const InputError& e) {
+        return make_error(ErrorCode::CutRejected, pointer_under(pointer, e.where()), e.problem());
+    }
+}
+
+ApplyOutcome Session::cut(const protocol::CutParams& p) {
+    // The decoder already checked the triangles (sweep.hpp); check again so a replayed log or a
+    // direct caller gets the same answer.
+    if (auto bad = protocol::check_sweep_triangles(p.triangles, "/params/triangles")) {
+        return *bad;
+    }
+    std::vector<std::array<Vec3, 3>> world(p.triangles.size());
+    for (std::size_t t = 0; t < p.triangles.size(); ++t) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            world[t][k] = to_vec(p.triangles[t][k]);
+        }
+    }
+    auto summary = run_cut(world, "/params/triangles");
+    if (!summary) {
+        return summary.error();
+    }
+    return done(protocol::CutResult { effect_tick(), m_sim->topology_version(),
+        static_cast<std::uint32_t>(p.triangles.size()) });
+}
+
+ApplyOutcome Session::scalpel(
+    const protocol::ScalpelParams& p, std::string_view client, double now_s) {
+    Stroke* stroke = m_strokes.find(client, p.stroke);
+    if (stroke == nullptr) {
+        Stroke& opened = m_strokes.open(client, p.stroke, now_s);
+        opened.a = p.a;
+        opened.b = p.b;
+        return done(protocol::ScalpelResult { effect_tick(), 0 });
+    }
+    // Consecutive samples a0b0 -> a1b1 sweep the quad (a0, b0, b1, a1): two triangles
+    // (a0, b0, a1) and (b0, b1, a1); degenerate ones (the blade did not move) are skipped.
+    const std::array<protocol::Triangle3, 2> quad
+        = { protocol::Triangle3 { stroke->a, stroke->b, p.a },
+              protocol::Triangle3 { stroke->b, p.b, p.a } };
+    std::vector<std::array<Vec3, 3>> world;
+    for (const auto& tri : quad) {
+        if (!protocol::triangle_defect(tri)) {
+            world.push_back({ to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) });
+        }
+    }
+    std::uint32_t added = 0;
+    if (!world.empty()) {
+        auto summary = run_cut(world, "/params");
+        if (!summary) {
+            // The sim's own degeneracy test is relative to the tissue size: skip such samples
+            // like the protocol's degenerate ones, but keep other rejections as errors.
+            if (summary.error().reason.find("degenerate") == std::string::npos) {
+                return summary.error();
+            }
+        } else {
+            added = static_cast<std::uint32_t>(world.size());
+        }
+    }
+    stroke->a = p.a;
+    stroke->b = p.b;
+    stroke->triangles += added;
+    stroke->last_used_s = now_s;
+    return done(protocol::ScalpelResult { effect_tick(), added });
+}
+
+ApplyOutcome Session::end_stroke(const protocol::EndStrokeParams& p, std::string_view client) {
+    const Stroke* stroke = m_strokes.find(client, p.stroke);
+    if (stroke == nullptr) {
+        return make_error(ErrorCode::NotFound, "/params/stroke",
+            "no open stroke " + std::to_string(p.stroke) + " for this client");
+    }
+    const std::uint32_t total = stroke->triangles;
+    m_strokes.close(client, p.stroke);
+    return done(protocol::CutResult { effect_tick(), m_sim->topology_version(), total });
+}
+
+std::uint64_t Session::state_hash() const {
+    // FNV-1a over the session's state on top of the simulation's own hash.
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&](const void* data, std::size_t bytes) {
+        const auto* c = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < bytes; ++i) {
+            h ^= c[i];
+            h *= 1099511628211ull;
+        }
+    };
+    auto mix_value = [&](const auto& v) { mix(&v, sizeof v); };
+    if (m_sim) {
+        mix_value(m_sim->state_hash());
+        mix_value(m_sim->tick());
+        mix_value(m_sim->topology_version());
+    }
+    mix_value(m_next_id);
+    for (const auto& [id, f] : m_forces) {
+        mix_value(id);
+        mix_value(f.expires);
+        mix(f.spec.data(), sizeof f.spec);
+    }
+    for (const auto& [id, g] : m_grabs) {
+        mix_value(id);
+        mix(g.target.data(), sizeof g.target);
+        mix(g.spec.data(), sizeof g.spec);
+    }
+    for (const auto& [key, s] : m_strokes.entries()) {
+        mix(key.first.data(), key.first.size());
+        mix_value(key.second);
+        mix(s.a.data(), sizeof s.a);
+        mix(s.b.data(), sizeof s.b);
+        mix_value(s.triangles);
+    }
+    return h;
+}
+
+} // namespace polycut::server

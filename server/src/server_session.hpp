@@ -1,0 +1,132 @@
+// The simulation side of the server: one sim::Simulation plus the state the protocol adds on top
+// of it (wire ids of forces and grabs, open scalpel strokes, the scene directory). Every command
+// that changes the simulation goes through Session::apply, both live and when a command log is
+// replayed, so the two give identical states (DESIGN.md sec. 5, determinism). No sockets here.
+#pragma once
+
+#include "polycut/protocol/error.hpp"
+#include "polycut/protocol/expected.hpp"
+#include "polycut/protocol/params.hpp"
+#include "polycut/protocol/results.hpp"
+#include "polycut/sim/simulation.hpp"
+#include "server_strokes.hpp"
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace polycut::server {
+
+/// Session settings.
+struct SessionConfig {
+    /// Directory `load_scene {"name"}` resolves against: <scene_dir>/<name>.json.
+    std::string scene_dir = "assets/scenes";
+    /// Scalpel stroke bookkeeping limits (per client).
+    StrokeLimits strokes;
+};
+
+/// What applying a command did besides its result.
+struct Applied {
+    protocol::Result result;
+    bool scene_changed = false; ///< load_scene or reset: a new surface topology from tick 0
+    std::string scene_reason; ///< "load" or "reset" when scene_changed
+};
+
+/// Outcome of Session::apply.
+using ApplyOutcome = protocol::Expected<Applied, protocol::RpcError>;
+
+/// The simulation with the protocol's bookkeeping. Not thread-safe: the server loop owns it.
+class Session {
+public:
+    explicit Session(SessionConfig config = {});
+    ~Session();
+    Session(const Session&) = delete;
+    Session& operator=(const Session&) = delete;
+
+    /// Loads a scene file given on the command line (not through the wire: any path is allowed).
+    /// Throws polycut::Error subclasses (SceneError, FileError, MeshError) on failure.
+    void load_scene_file(const std::string& path);
+
+    /// True when the method changes the simulation (and so is recorded in the command log):
+    /// load_scene, reset, apply_force, remove_force, grab, move_grab, release, cut, scalpel,
+    /// end_stroke.
+    static bool is_mutation(protocol::Method method);
+
+    /// Applies a mutation at the current tick boundary on behalf of `client` (the routing
+    /// identity; scalpel strokes are per client). Never throws; on error nothing changed.
+    /// `now_s` is a monotonic wall time [s] used only to expire idle strokes.
+    ApplyOutcome apply(const protocol::Params& params, std::string_view client, double now_s);
+
+    /// Advances one tick (no-op report when no scene is loaded). Never throws.
+    sim::StepReport step();
+
+    /// Drops everything kept for a client (its open strokes).
+    void drop_client(std::string_view client);
+    /// Drops strokes idle for longer than the limit.
+    void expire(double now_s);
+
+    bool has_scene() const { return m_sim != nullptr; }
+    /// The simulation (requires has_scene()).
+    const sim::Simulation& simulation() const { return *m_sim; }
+    /// Name of the loaded scene ("inline" for an inline scene), empty when none.
+    const std::string& scene_name() const { return m_scene_name; }
+    /// Ticks completed since the scene was loaded or reset.
+    std::int64_t tick() const;
+    /// Simulated time [s].
+    double sim_time() const;
+    /// Topology version of the surface (0 when no scene).
+    std::uint64_t topology_version() const;
+    std::uint32_t active_forces() const { return static_cast<std::uint32_t>(m_forces.size()); }
+    std::uint32_t active_grabs() const { return static_cast<std::uint32_t>(m_grabs.size()); }
+    std::size_t open_strokes() const { return m_strokes.size(); }
+    std::uint32_t cell_count() const { return m_cells; }
+
+    /// Hash of the whole session state: the simulation's state_hash, its tick and topology
+    /// version, the active forces and grabs with their wire ids, and the open strokes.
+    std::uint64_t state_hash() const;
+
+    /// The next tick number a command applied now takes effect in (tick() + 1).
+    std::int64_t effect_tick() const { return tick() + 1; }
+
+private:
+    ApplyOutcome load_scene(const protocol::LoadSceneParams& p);
+    ApplyOutcome reset();
+    ApplyOutcome apply_force(const protocol::ApplyForceParams& p);
+    ApplyOutcome remove_force(const protocol::RemoveForceParams& p);
+    ApplyOutcome grab(const protocol::GrabParams& p);
+    ApplyOutcome move_grab(const protocol::MoveGrabParams& p);
+    ApplyOutcome release(const protocol::ReleaseParams& p);
+    ApplyOutcome cut(const protocol::CutParams& p);
+    ApplyOutcome scalpel(const protocol::ScalpelParams& p, std::string_view client, double now_s);
+    ApplyOutcome end_stroke(const protocol::EndStrokeParams& p, std::string_view client);
+    /// Runs the simulation's cut; InputError becomes -32002 pointing into `pointer`.
+    protocol::Expected<sim::CutSummary, protocol::RpcError> run_cut(
+        const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer);
+    void install(std::unique_ptr<sim::Simulation> sim, std::string name);
+    void prune_expired_forces();
+
+    struct ForceEntry {
+        long sim_id = 0;
+        double expires = 0; ///< sim time [s]; 0 = never
+        std::array<double, 7> spec {}; ///< point, force, radius (for the state hash)
+    };
+    struct GrabEntry {
+        long sim_id = 0;
+        protocol::Vector3 target {};
+        std::array<double, 5> spec {}; ///< point, stiffness, radius
+    };
+
+    SessionConfig m_config;
+    std::unique_ptr<sim::Simulation> m_sim;
+    std::string m_scene_name;
+    std::uint32_t m_cells = 0;
+    std::map<std::uint64_t, ForceEntry> m_forces; ///< wire id -> entry
+    std::map<std::uint64_t, GrabEntry> m_grabs;
+    std::uint64_t m_next_id = 1; ///< wire ids of forces and grabs, never reused
+    StrokeTable m_strokes;
+};
+
+} // namespace polycut::server
