@@ -97,12 +97,20 @@ TEST(ImplicitShape, ValuesAndVolumes) {
     const double pi = std::numbers::pi;
     EXPECT_NEAR(implicit_volume(sphere), 4.0 / 3.0 * pi * 1.25e-4, 1e-18);
     EXPECT_NEAR(implicit_volume(capsule), pi * 4e-4 * 0.06 + 4.0 / 3.0 * pi * 8e-6, 1e-18);
-    // The blob's grid estimate is stable under refinement (100^3 vs 200^3) and organ-sized.
+    // The octree midpoint rule brackets the analytic volumes within its guaranteed bound.
+    for (const auto& shape : { sphere, capsule, ellipsoid }) {
+        const VolumeEstimate e = estimate_implicit_volume(shape, 7);
+        EXPECT_NEAR(e.volume, implicit_volume(shape), e.error_bound);
+        EXPECT_LT(e.error_bound, 0.2 * e.volume);
+    }
+    // The blob's estimates at two depths agree within their bounds and it is organ-sized.
     const auto blob = ImplicitShape::blob();
-    const double v100 = implicit_volume(blob, 100), v200 = implicit_volume(blob, 200);
-    EXPECT_NEAR(v100, v200, 2e-3 * v200);
-    EXPECT_GT(v200, 1e-4);
-    EXPECT_LT(v200, 6e-4);
+    const VolumeEstimate b7 = estimate_implicit_volume(blob, 7),
+                         b8 = estimate_implicit_volume(blob, 8);
+    EXPECT_NEAR(b7.volume, b8.volume, b7.error_bound + b8.error_bound);
+    EXPECT_LT(b8.error_bound, 0.5 * b7.error_bound + 1e-12);
+    EXPECT_GT(b8.volume, 1e-4);
+    EXPECT_LT(b8.volume, 2e-4);
 }
 
 TEST(ImplicitShape, RejectsBadInput) {
@@ -148,17 +156,17 @@ TEST(MeshImplicit, Capsule) {
     EXPECT_LE(Vm, V * (1 + 1e-5));
 }
 
-// The blob has no closed-form volume: compare with the midpoint-rule estimate on a 200^3 grid,
-// whose error is bounded by the volume of the grid cells the surface crosses (~A h, with
-// h = 2R/200), a strict over-estimate as the errors of crossed cells largely cancel.
+// The blob has no closed-form volume: compare with the octree midpoint-rule estimate (512^3
+// grid), adding its guaranteed error bound (~5 %) to the meshing tolerance A d (~6 % with
+// d = 0.5 mm).
 TEST(MeshImplicit, Blob) {
     const auto shape = ImplicitShape::blob();
-    const MeshingOptions o = coarse(0.01);
+    MeshingOptions o = coarse(0.01);
+    o.facet_distance = 0.0005;
     const mesh::Mesh m = mesh_implicit(shape, o);
-    const double V = implicit_volume(shape, 200);
-    const double h = 2 * bounding_radius(shape) / 200;
-    const double A = surface_area(boundary_surface(m));
-    check_shape_mesh(shape, m, o, V, 0.5 * A * h);
+    const VolumeEstimate e = estimate_implicit_volume(shape, 9);
+    std::printf("[ blob     ] volume estimate %.6e +- %.2e m^3\n", e.volume, e.error_bound);
+    check_shape_mesh(shape, m, o, e.volume, e.error_bound);
     // Organ-sized: about 10 cm across.
     Vec3 lo = m.rest[0], hi = m.rest[0];
     for (const Vec3& x : m.rest) {

@@ -137,7 +137,42 @@ double bounding_radius(const ImplicitShape& shape) {
     return 0;
 }
 
-double implicit_volume(const ImplicitShape& shape, int samples) {
+namespace {
+
+/// Octree recursion of estimate_implicit_volume(): block with centre c and half-size h.
+void count_block(
+    const ImplicitShape& shape, const Vec3& c, double h, int depth, VolumeEstimate& out) {
+    const double f = implicit_value(shape, c);
+    const double cube = 8 * h * h * h;
+    if (depth == 0) {
+        if (f < 0)
+            out.volume += cube;
+        if (std::abs(f) <= std::sqrt(3.0) * h)
+            out.error_bound += cube;
+        return;
+    }
+    if (std::abs(f) > std::sqrt(3.0) * h) { // 1-Lipschitz: no sign change in the block
+        if (f < 0)
+            out.volume += cube;
+        return;
+    }
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 offset((k & 1) ? 0.5 : -0.5, (k & 2) ? 0.5 : -0.5, (k & 4) ? 0.5 : -0.5);
+        count_block(shape, c + h * offset, 0.5 * h, depth - 1, out);
+    }
+}
+
+} // namespace
+
+VolumeEstimate estimate_implicit_volume(const ImplicitShape& shape, int depth) {
+    check_shape(shape);
+    VolumeEstimate out;
+    // Slightly larger than the bounding ball so that no part of the shape touches the border.
+    count_block(shape, shape.center, 1.01 * bounding_radius(shape), std::clamp(depth, 0, 12), out);
+    return out;
+}
+
+double implicit_volume(const ImplicitShape& shape) {
     constexpr double pi = std::numbers::pi;
     switch (shape.kind) {
     case ImplicitShape::Kind::Sphere:
@@ -151,20 +186,7 @@ double implicit_volume(const ImplicitShape& shape, int samples) {
     case ImplicitShape::Kind::Blob:
         break;
     }
-    // Midpoint rule on the indicator function over the bounding cube.
-    const int n = std::max(samples, 1);
-    const double R = bounding_radius(shape);
-    const double h = 2 * R / n;
-    long inside = 0;
-    for (int k = 0; k < n; ++k)
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const Vec3 p = shape.center
-                    + Vec3(-R + (i + 0.5) * h, -R + (j + 0.5) * h, -R + (k + 0.5) * h);
-                if (implicit_value(shape, p) < 0)
-                    ++inside;
-            }
-    return double(inside) * h * h * h;
+    return estimate_implicit_volume(shape).volume;
 }
 
 } // namespace polycut::meshing

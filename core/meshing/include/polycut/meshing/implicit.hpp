@@ -46,9 +46,21 @@ double implicit_value(const ImplicitShape& shape, const Vec3& p);
 /// Radius of a ball around shape.center that contains the whole shape [m].
 double bounding_radius(const ImplicitShape& shape);
 
-/// Exact volume [m^3] for Sphere, Ellipsoid and Capsule; for Blob, a midpoint-rule estimate on a
-/// grid of `samples`^3 cells over the bounding box (relative error ~ 1/samples).
-double implicit_volume(const ImplicitShape& shape, int samples = 200);
+/// A volume estimate with a guaranteed error bound.
+struct VolumeEstimate {
+    double volume = 0; ///< [m^3]
+    double error_bound = 0; ///< |volume - true volume| <= error_bound [m^3]
+};
+
+/// Midpoint rule on the indicator of the shape over a grid of 2^depth cells per axis covering the
+/// bounding cube, evaluated adaptively: since implicit_value() is 1-Lipschitz, an octree block
+/// whose centre value exceeds its half-diagonal is entirely inside or outside and is counted
+/// whole (same result as the full grid, cost ~ surface cells). The bound is the volume of the
+/// finest cells the surface may cross.
+VolumeEstimate estimate_implicit_volume(const ImplicitShape& shape, int depth = 8);
+
+/// Exact volume [m^3] for Sphere, Ellipsoid and Capsule; for Blob, estimate_implicit_volume().
+double implicit_volume(const ImplicitShape& shape);
 
 /// Throws InputError if the shape has non-positive or non-finite radii, a negative length or a
 /// zero capsule axis.
