@@ -60,6 +60,20 @@ std::array<double, 6> tet_dihedral_angles(
 
 namespace snap {
 
+    double tet_mesh_volume(const mesh::Mesh& m)
+    {
+        // Sum of tet volumes from the node lists: no face loops, no allocation.
+        double v = 0;
+        for (const auto& cell : m.cells) {
+            const auto& t = cell.nodes;
+            const Vec3& a = m.rest[std::size_t(t[0])];
+            v += (m.rest[std::size_t(t[1])] - a)
+                     .dot((m.rest[std::size_t(t[2])] - a).cross(m.rest[std::size_t(t[3])] - a))
+                / 6.0;
+        }
+        return v;
+    }
+
 State::State(mesh::Mesh& mesh, const SnapOptions& options)
     : m(mesh)
     , opt(options) {
@@ -72,7 +86,7 @@ void State::rebuild() {
         all.extend(x);
     L = std::max(all.diagonal(), 1e-300);
     center = all.empty() ? Vec3::Zero() : all.center();
-    volume0 = m.rest_volume();
+    volume0 = tet_mesh_volume(m);
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
@@ -88,7 +102,7 @@ void State::begin(CutReport& r) {
     stats = SnapStats {};
     r.nodes_before = m.num_nodes();
     r.cells_before = m.num_cells();
-    r.volume_before = m.rest_volume();
+    r.volume_before = tet_mesh_volume(m);
     node_old.resize(m.rest.size());
     for (std::size_t i = 0; i < node_old.size(); ++i)
         node_old[i] = Index(i);
@@ -109,7 +123,7 @@ void State::end() {
     CutReport& r = *report;
     r.nodes_after = m.num_nodes();
     r.cells_after = m.num_cells();
-    r.volume_after = m.rest_volume();
+    r.volume_after = tet_mesh_volume(m);
     for (Index n = 0; n < m.num_nodes(); ++n) {
         if (at(node_old, n) != kNone)
             continue;

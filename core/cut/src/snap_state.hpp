@@ -88,6 +88,9 @@ struct State {
     double aspect(Index c, Index n = kNone, const Vec3& Xn = Vec3::Zero()) const;
 };
 
+/// Total rest volume of a tet mesh [m^3] from the cells' node lists (cheap).
+double tet_mesh_volume(const mesh::Mesh& m);
+
 // snap_select.cpp: 002 sec. 3.2.1. Marks the crossings of the triangle and returns the newly
 // selected interior faces (appended to pending as well).
 std::vector<Index> select_faces(State& s, const SweepPlane& plane);

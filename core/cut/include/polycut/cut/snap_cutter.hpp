@@ -47,6 +47,9 @@ struct SnapOptions {
     /// Collapse passes over the list of degeneracies; a pass that shortens the list is repeated
     /// (002 sec. 3.2.3).
     int max_passes = 8;
+    /// A collapse that moves the boundary is refused when the total rest volume would differ
+    /// from the volume at binding by more than this fraction (issue 5: below 1e-3).
+    double max_volume_change = 5e-4;
     /// A sweep triangle whose area is below min_area * L^2, or whose shortest altitude is below
     /// min_area * L, is rejected as degenerate.
     double min_area = 1e-10;
