@@ -61,6 +61,72 @@ namespace {
                 }
         }
     }
+
+    /// Closed-form corotated kernel of a P1 tet (isotropic material, one quadrature point):
+    /// H = R^T F - C0 (F = sum_j (x_j - x_c) g_j^T), sigma = lambda tr(H) I + mu (H + H^T),
+    /// f_i = -V R sigma g_i, and the stiffness blocks V (lambda r_i r_j^T + mu r_j r_i^T
+    /// + mu (g_i . g_j) I) with r_i = R g_i. Equal to the generic R Ke (R^T x - X) and R Ke R^T
+    /// for Ke of element_stiffness() up to round-off, at ~1/5 of the flops.
+    template <typename Cell>
+    void p1_kernel(const Cell& t, double lambda, double mu, const MatX3& x, bool corotated,
+        Mat3& R, const int* scatter, double* Kvals, double* fint)
+    {
+        Vec3 p[4];
+        for (int i = 0; i < 4; ++i)
+            p[i] = x.row(t.nodes[i]).transpose();
+        const Vec3 xc = 0.25 * (p[0] + p[1] + p[2] + p[3]);
+        Vec3 g[4];
+        for (int i = 0; i < 4; ++i)
+            g[i] = Vec3(t.g[i][0], t.g[i][1], t.g[i][2]);
+        Mat3 F = Mat3::Zero();
+        for (int i = 0; i < 4; ++i)
+            F.noalias() += (p[i] - xc) * g[i].transpose();
+        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> C0(&t.c0[0][0]);
+        if (corotated)
+            R = polar_rotation_warm(F, R);
+        const double V = t.volume;
+        if (fint) {
+            const Mat3 H = corotated ? Mat3(R.transpose() * F - C0) : Mat3(F - C0);
+            Mat3 sigma = mu * (H + H.transpose());
+            sigma.diagonal().array() += lambda * H.trace();
+            const Mat3 P = corotated ? Mat3(V * (R * sigma)) : Mat3(V * sigma);
+            for (int i = 0; i < 4; ++i) {
+                const Vec3 fi = P * g[i];
+                double* dst = fint + 3 * std::size_t(t.nodes[i]);
+                dst[0] -= fi.x();
+                dst[1] -= fi.y();
+                dst[2] -= fi.z();
+            }
+        }
+        if (!Kvals)
+            return;
+        Vec3 r[4];
+        for (int i = 0; i < 4; ++i)
+            r[i] = corotated ? Vec3(R * g[i]) : g[i];
+        const double vl = V * lambda, vm = V * mu;
+        for (int i = 0; i < 4; ++i)
+            for (int j = i; j < 4; ++j) {
+                // B = block (i, j); block (j, i) = B^T.
+                Mat3 B = vl * r[i] * r[j].transpose() + vm * r[j] * r[i].transpose();
+                B.diagonal().array() += vm * g[i].dot(g[j]);
+                const int* sij = scatter + std::size_t(3 * i) * 12 + std::size_t(3 * j);
+                const int* sji = scatter + std::size_t(3 * j) * 12 + std::size_t(3 * i);
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b) {
+                        const int s = sij[a * 12 + b];
+                        if (s >= 0)
+                            Kvals[s] += B(a, b);
+                    }
+                if (j == i)
+                    continue;
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b) {
+                        const int s = sji[a * 12 + b];
+                        if (s >= 0)
+                            Kvals[s] += B(b, a);
+                    }
+            }
+    }
 } // namespace
 
 std::vector<std::uint8_t> fix_nodes(const std::vector<std::uint8_t>& node_mask)
@@ -113,6 +179,25 @@ void ElasticModel::compute_cell(Index c)
     cd.rest_local.resize(Index(X.size()), 3);
     for (std::size_t i = 0; i < X.size(); ++i)
         cd.rest_local.row(Index(i)) = (X[i] - Xc).transpose();
+    if (m_p1.size() < m_cells.size())
+        m_p1.resize(m_cells.size());
+    P1Cell& t = m_p1[std::size_t(c)];
+    t = P1Cell {};
+    const basis::CellIntegration& ci = cd.integration;
+    if (cd.nodes.size() == 4 && ci.gradients.size() == 1 && ci.gradients[0].rows() == 4) {
+        t.valid = true;
+        t.volume = ci.weights[0];
+        Mat3 c0 = Mat3::Zero();
+        for (int i = 0; i < 4; ++i) {
+            t.nodes[i] = cd.nodes[std::size_t(i)];
+            for (int a = 0; a < 3; ++a)
+                t.g[i][a] = ci.gradients[0](i, a);
+            c0 += cd.rest_local.row(i).transpose() * ci.gradients[0].row(i);
+        }
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                t.c0[a][b] = c0(a, b);
+    }
 }
 
 void ElasticModel::rebuild_mass()
@@ -132,6 +217,7 @@ void ElasticModel::rebuild_topology()
     m_fixed.resize(3 * std::size_t(n), 0);
     m_cells.assign(std::size_t(m_mesh->num_cells()), CellData {});
     m_rotation.assign(m_cells.size(), Mat3::Identity());
+    m_p1.assign(m_cells.size(), P1Cell {});
     for (Index c = 0; c < m_mesh->num_cells(); ++c)
         compute_cell(c);
     rebuild_pattern();
@@ -265,6 +351,7 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
         fint = f_int->data();
     }
     const bool corotated = mode == ForceMode::Corotated;
+    const double lambda = m_material.lambda(), mu = m_material.mu();
     double ubuf[24], fbuf[24];
     std::vector<double> ubig, fbig;
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
@@ -272,7 +359,9 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
         const int n = int(cd.nodes.size());
         const int* sc = m_scatter.data() + m_scatter_offset[c];
         Mat3& R = m_rotation[c];
-        if (n == 4)
+        if (m_p1[c].valid)
+            p1_kernel(m_p1[c], lambda, mu, x, corotated, R, sc, Kvals, fint);
+        else if (n == 4)
             cell_kernel<4>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x, corotated, R, ubuf,
                 fbuf, sc, Kvals, fint);
         else if (n == 8)

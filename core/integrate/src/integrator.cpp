@@ -39,6 +39,7 @@ void Integrator::ensure_topology(StepReport& report)
     m_A = m_model->make_matrix();
     m_solver.reset();
     m_dv.setZero(m_model->num_free_dofs());
+    m_dv_prev.resize(0);
     geometry::Aabb box;
     for (const Vec3& p : m_model->mesh().rest)
         box.extend(p);
@@ -131,9 +132,17 @@ bool Integrator::step_implicit(State& s, StepReport& report)
     const auto& diag = m_model->diagonal_slots();
     for (std::size_t r = 0; r < diag.size(); ++r)
         m_A.valuePtr()[diag[r]] += cM * M(Index(r));
-    // m_dv holds the previous step's dv: the warm start.
+    // m_dv holds the previous step's dv: the warm start (or extrapolated from the last two).
+    const bool extrapolate = m_options.extrapolate_warm_start && m_dv_prev.size() == m_dv.size();
+    if (m_options.extrapolate_warm_start) {
+        m_tmp = m_dv; // dv_{n-1}
+        if (extrapolate)
+            m_dv = 2.0 * m_tmp - m_dv_prev;
+    }
     if (!linear_solve(m_A, m_rhs, m_dv, report))
         return false;
+    if (m_options.extrapolate_warm_start)
+        m_dv_prev = m_tmp;
     m_v_r += m_dv;
     advance(m_model->dof_map(), m_v_r, h, s);
     return true;
@@ -320,6 +329,7 @@ StepReport Integrator::step(State& s)
             s.time = m_backup.time;
             report.rolled_back = true;
             m_dv.setZero(m_model->num_free_dofs()); // a bad warm start must not persist
+            m_dv_prev.resize(0);
         }
     } catch (const std::exception& e) {
         report.warnings.push_back(std::string("step failed: ") + e.what());

@@ -17,6 +17,9 @@ namespace {
         case LinearSolverKind::PcgLagged:
             p.preconditioner = solve::Preconditioner::LaggedCholesky;
             break;
+        case LinearSolverKind::PcgIncompleteCholesky:
+            p.preconditioner = solve::Preconditioner::IncompleteCholesky;
+            break;
         default:
             p.preconditioner = solve::Preconditioner::Jacobi;
         }

@@ -94,6 +94,15 @@ private:
         MatX3 fit;                ///< fit gradients G (n x 3)
         MatX3 rest_local;         ///< X_i - X_c (n x 3)
     };
+    /// Compact data of a one-point 4-node cell (P1 tet) for the closed-form corotated kernel:
+    /// blocks R Ke_ij R^T = V (lambda r_i r_j^T + mu r_j r_i^T + mu g_i.g_j I), r_i = R g_i.
+    struct P1Cell {
+        bool valid = false;
+        Index nodes[4] = { 0, 0, 0, 0 };
+        double g[4][3] = {};  ///< P1 gradients [1/m]
+        double c0[3][3] = {}; ///< sum_j (X_j - X_c) g_j^T (the identity up to round-off)
+        double volume = 0;    ///< quadrature weight [m^3]
+    };
     void compute_cell(Index c);
     void rebuild_mass();
     void rebuild_pattern();
@@ -104,6 +113,7 @@ private:
     std::vector<std::uint8_t> m_fixed;
     std::vector<CellData> m_cells;
     std::vector<Mat3> m_rotation;
+    std::vector<P1Cell> m_p1; ///< per cell; valid for one-point 4-node cells
     VecX m_mass;
     VecX m_reduced_mass;
     std::vector<Index> m_dof_map;

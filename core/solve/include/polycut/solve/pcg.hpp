@@ -9,9 +9,12 @@
 
 namespace polycut::solve {
 
-enum class Preconditioner { None, Jacobi, BlockJacobi3, LaggedCholesky };
+/// PCG preconditioners. LaggedCholesky and IncompleteCholesky keep their factor between solves
+/// and refresh it on the schedule of PcgOptions (refactor_every / refactor_iterations).
+enum class Preconditioner { None, Jacobi, BlockJacobi3, LaggedCholesky, IncompleteCholesky };
 
-/// Name of a preconditioner ("none", "jacobi", "block_jacobi3", "lagged_cholesky").
+/// Name of a preconditioner ("none", "jacobi", "block_jacobi3", "lagged_cholesky",
+/// "incomplete_cholesky").
 const char* to_string(Preconditioner p);
 
 struct PcgOptions {

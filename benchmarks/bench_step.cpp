@@ -1,0 +1,335 @@
+// Corotated implicit Euler step on the Kuhn tet boxes of issue 3 item 6 (assets/scenes/bench_box*.json,
+// built here programmatically the same way): a 0.1 m cube of n^3 blocks x 6 Kuhn tets, x = 0
+// fixed, gravity, E = 10 kPa, nu = 0.45, rho = 1000, beta = 0.01, dt = 0.01.
+//
+//   Step/box<n>/<method>/tol<t>: 10 warm-up steps from rest, then 50 timed steps. Counters:
+//     med_ms, p99_ms   process CPU time per step (all threads: a background factorization counts)
+//     wall_med_ms      wall time per step (pessimistic on a loaded machine)
+//     its              median PCG iterations per step
+//     asm_ms, slv_ms   median of the step report's assembly / solve wall times
+//     err              || x_50 - x_50,ref || / || x_50,ref - X || after 50 steps from rest, with the
+//                      reference from a tightly converged run (PCG + lagged CHOLMOD to 1e-12,
+//                      cached in bench_step_ref_<n>.bin in the working directory)
+//   Assemble/box<n>, SpMV/box<n>, Precond/box<n>/<kind>: the parts of a step, at the state after
+//   20 steps.
+//
+// Run one thread: OPENBLAS_NUM_THREADS=1 ./bench_step --benchmark_filter=box20
+// Google Benchmark's CPU column is the process CPU time; on the shared machine prefer it to wall.
+#include "polycut/common/stats.hpp"
+#include "polycut/integrate/integrator.hpp"
+#include "polycut/mesh/builders.hpp"
+#include "polycut/solve/cholmod_solver.hpp"
+#include "polycut/solve/pcg.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Cholesky>
+#include <ctime>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+using namespace polycut;
+using namespace polycut::integrate;
+
+namespace {
+
+constexpr int kWarmup = 10;
+constexpr int kTimed = 50;
+constexpr int kAccuracyStep = 50;
+
+double process_cpu_ms()
+{
+    timespec t {};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
+
+/// One benchmark box: the mesh and a model over it (both on the heap: the model points at the mesh).
+struct Box {
+    std::unique_ptr<mesh::Mesh> mesh;
+    std::unique_ptr<elasticity::ElasticModel> model;
+};
+
+elasticity::Material box_material()
+{
+    elasticity::Material m;
+    m.youngs_modulus = 1e4;
+    m.poisson_ratio = 0.45;
+    m.density = 1000;
+    m.rayleigh_stiffness = 0.01;
+    return m;
+}
+
+Box make_box(int n)
+{
+    Box b;
+    mesh::BoxGrid g;
+    g.lo = Vec3::Zero();
+    g.hi = Vec3::Constant(0.1);
+    g.cells = Eigen::Vector3i(n, n, n);
+    b.mesh = std::make_unique<mesh::Mesh>(mesh::tet_grid(g, mesh::TetSplit::Kuhn6));
+    std::vector<std::uint8_t> fixed(std::size_t(b.mesh->num_nodes()), 0);
+    for (Index i = 0; i < b.mesh->num_nodes(); ++i)
+        fixed[std::size_t(i)] = std::abs(b.mesh->rest[std::size_t(i)].x()) < 1e-9;
+    b.model = std::make_unique<elasticity::ElasticModel>(
+        *b.mesh, box_material(), basis::BasisOptions {}, elasticity::fix_nodes(fixed));
+    return b;
+}
+
+IntegratorOptions step_options(const SolverOptions& solver)
+{
+    IntegratorOptions o;
+    o.kind = IntegratorKind::ImplicitEuler;
+    o.dt = 0.01;
+    o.force_mode = elasticity::ForceMode::Corotated;
+    o.gravity = Vec3(0, 0, -9.81);
+    o.solver = solver;
+    return o;
+}
+
+/// A solver configuration of the step benchmark.
+struct Method {
+    std::string name;
+    SolverOptions options;
+};
+
+std::vector<Method> methods(double tol)
+{
+    std::vector<Method> list;
+    auto add = [&](std::string name, LinearSolverKind kind) {
+        SolverOptions s;
+        s.kind = kind;
+        s.relative_tolerance = tol;
+        s.max_iterations = 5000;
+        list.push_back({ std::move(name), s });
+        return &list.back().options;
+    };
+    add("jacobi", LinearSolverKind::PcgJacobi);
+    add("block_jacobi", LinearSolverKind::PcgBlockJacobi);
+    add("lagged", LinearSolverKind::PcgLagged);
+    add("ic", LinearSolverKind::PcgIncompleteCholesky)->refactor_every = 10;
+    return list;
+}
+
+/// Displacement after kAccuracyStep steps from rest of a tightly converged run, cached on disk.
+const MatX3& reference(int n)
+{
+    static std::map<int, MatX3> cache;
+    if (auto it = cache.find(n); it != cache.end())
+        return it->second;
+    const std::string path = "bench_step_ref_" + std::to_string(n) + ".bin";
+    Box b = make_box(n);
+    MatX3 x(b.model->num_nodes(), 3);
+    std::ifstream in(path, std::ios::binary);
+    if (in && in.read(reinterpret_cast<char*>(x.data()), std::streamsize(sizeof(double) * std::size_t(x.size()))))
+        return cache[n] = x;
+    SolverOptions s;
+    s.kind = LinearSolverKind::PcgLagged;
+    s.relative_tolerance = 1e-12;
+    s.max_iterations = 5000;
+    s.refactor_iterations = 20;
+    Integrator integ(*b.model, step_options(s));
+    State st = integ.rest_state();
+    for (int k = 0; k < kAccuracyStep; ++k)
+        integ.step(st);
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(st.x.data()), std::streamsize(sizeof(double) * std::size_t(st.x.size())));
+    return cache[n] = st.x;
+}
+
+double relative_error(const Box& b, const MatX3& x, const MatX3& ref)
+{
+    MatX3 u_ref = ref;
+    for (Index i = 0; i < u_ref.rows(); ++i)
+        u_ref.row(i) -= b.mesh->rest[std::size_t(i)].transpose();
+    return (x - ref).norm() / u_ref.norm();
+}
+
+void run_steps(benchmark::State& state, int n, SolverOptions solver, bool extrapolate)
+{
+    Box b = make_box(n);
+    const MatX3& ref = reference(n);
+    IntegratorOptions options = step_options(solver);
+    options.extrapolate_warm_start = extrapolate;
+    Integrator integ(*b.model, options);
+    State st = integ.rest_state();
+    int steps = 0;
+    double err = -1;
+    std::vector<double> cpu, wall, its, asm_ms, slv_ms;
+    for (; steps < kWarmup; ++steps)
+        integ.step(st);
+    bool failed = false;
+    for (auto _ : state) {
+        const double c0 = process_cpu_ms();
+        const StepReport r = integ.step(st);
+        cpu.push_back(process_cpu_ms() - c0);
+        ++steps;
+        wall.push_back(r.step_ms);
+        its.push_back(r.solver_iterations);
+        asm_ms.push_back(r.assembly_ms);
+        slv_ms.push_back(r.solve_ms);
+        failed |= r.rolled_back || r.status != solve::SolveStatus::Ok;
+        if (steps == kAccuracyStep) {
+            state.PauseTiming();
+            err = relative_error(b, st.x, ref);
+            state.ResumeTiming();
+        }
+    }
+    if (failed)
+        state.SkipWithError("a step failed or rolled back");
+    state.counters["med_ms"] = percentile(cpu, 50);
+    state.counters["p99_ms"] = percentile(cpu, 99);
+    state.counters["wall_med_ms"] = percentile(wall, 50);
+    state.counters["its"] = percentile(its, 50);
+    state.counters["asm_ms"] = percentile(asm_ms, 50);
+    state.counters["slv_ms"] = percentile(slv_ms, 50);
+    state.counters["err"] = err;
+    state.counters["dofs"] = double(b.model->num_free_dofs());
+}
+
+/// The state after 20 steps (for the part benchmarks), and the step matrix A there.
+struct Snapshot {
+    Box box;
+    State state;
+    solve::SparseMatrix K, A;
+    VecX b;
+};
+
+const Snapshot& snapshot(int n)
+{
+    static std::map<int, std::unique_ptr<Snapshot>> cache;
+    auto& slot = cache[n];
+    if (slot)
+        return *slot;
+    slot = std::make_unique<Snapshot>();
+    Snapshot& s = *slot;
+    s.box = make_box(n);
+    SolverOptions so;
+    so.kind = LinearSolverKind::PcgBlockJacobi;
+    so.relative_tolerance = 1e-8;
+    so.max_iterations = 5000;
+    Integrator integ(*s.box.model, step_options(so));
+    s.state = integ.rest_state();
+    for (int k = 0; k < 20; ++k)
+        integ.step(s.state);
+    auto& model = *s.box.model;
+    s.K = model.make_matrix();
+    VecX f;
+    model.assemble(s.state.x, elasticity::ForceMode::Corotated, &s.K, &f);
+    const double h = 0.01, beta = model.material().rayleigh_stiffness;
+    s.A = (h * beta + h * h) * s.K;
+    for (std::size_t r = 0; r < model.diagonal_slots().size(); ++r)
+        s.A.valuePtr()[model.diagonal_slots()[r]] += model.reduced_mass()(Index(r));
+    model.reduce(f, s.b);
+    s.b *= h;
+    return s;
+}
+
+void assemble_bench(benchmark::State& state, int n)
+{
+    const Snapshot& s = snapshot(n);
+    Box b = make_box(n);
+    solve::SparseMatrix K = b.model->make_matrix();
+    VecX f;
+    b.model->assemble(s.state.x, elasticity::ForceMode::Corotated, &K, &f); // warm rotations
+    for (auto _ : state) {
+        b.model->assemble(s.state.x, elasticity::ForceMode::Corotated, &K, &f);
+        benchmark::DoNotOptimize(K.valuePtr());
+    }
+    state.counters["us_per_tet"] = benchmark::Counter(double(b.mesh->num_cells()) * 1e-6,
+        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+void spmv_bench(benchmark::State& state, int n)
+{
+    const Snapshot& s = snapshot(n);
+    VecX y;
+    for (auto _ : state) {
+        solve::multiply_symmetric(s.A, s.b, y);
+        benchmark::DoNotOptimize(y.data());
+    }
+    // Bytes per SpMV: values + row indices + column pointers + x (read once at best) + y.
+    const double bytes = double(s.A.nonZeros()) * 12.0 + double(s.A.rows()) * (4 + 8 + 8);
+    state.counters["MB"] = bytes * 1e-6;
+    state.counters["GBps"]
+        = benchmark::Counter(bytes, benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1024);
+    state.counters["nnz"] = double(s.A.nonZeros());
+}
+
+/// Streaming bandwidth (triad a = b + s c over 3 x 32 MB), for the SpMV floor.
+void triad_bench(benchmark::State& state)
+{
+    const Index m = 4 << 20;
+    VecX a = VecX::Zero(m), b = VecX::Ones(m), c = VecX::Ones(m);
+    for (auto _ : state) {
+        a.noalias() = b + 0.5 * c;
+        benchmark::DoNotOptimize(a.data());
+    }
+    state.counters["GBps"] = benchmark::Counter(
+        3.0 * 8.0 * double(m), benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1024);
+}
+
+/// One preconditioned PCG solve from zero on the snapshot's system, fixed iteration count: per
+/// iteration cost of each preconditioner.
+void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p)
+{
+    const Snapshot& s = snapshot(n);
+    solve::PcgOptions o;
+    o.preconditioner = p;
+    o.relative_tolerance = 1e-30;
+    o.max_iterations = 20;
+    solve::PcgSolver pcg(o);
+    VecX x;
+    x.setZero(s.b.size());
+    pcg.solve(s.A, s.b, x); // set-up (a lagged factor is computed here)
+    int iterations = 0;
+    for (auto _ : state) {
+        x.setZero();
+        const solve::PcgResult r = pcg.solve(s.A, s.b, x);
+        iterations += r.iterations;
+    }
+    state.counters["ms_per_it"] = benchmark::Counter(double(iterations) * 1e-3,
+        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    benchmark::Initialize(&argc, argv);
+    for (int n : { 12, 20, 30 }) {
+        const std::string box = "box" + std::to_string(n);
+        benchmark::RegisterBenchmark(("Assemble/" + box).c_str(), assemble_bench, n)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("SpMV/" + box).c_str(), spmv_bench, n)->Unit(benchmark::kMillisecond);
+        for (auto [name, p] : { std::pair { "jacobi", solve::Preconditioner::Jacobi },
+                 std::pair { "block_jacobi", solve::Preconditioner::BlockJacobi3 },
+                 std::pair { "lagged", solve::Preconditioner::LaggedCholesky },
+                 std::pair { "ic", solve::Preconditioner::IncompleteCholesky } })
+            benchmark::RegisterBenchmark(("PcgIteration/" + box + "/" + name).c_str(), pcg_iteration_bench, n, p)
+                ->Unit(benchmark::kMillisecond);
+        SolverOptions direct;
+        direct.kind = LinearSolverKind::Cholmod;
+        benchmark::RegisterBenchmark(("Step/" + box + "/cholmod").c_str(), run_steps, n, direct, false)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(kTimed);
+        for (double tol : { 1e-6, 1e-3, 1e-2, 3e-2, 1e-1, 3e-1 }) {
+            char t[16];
+            std::snprintf(t, sizeof t, "%.0e", tol);
+            for (const Method& m : methods(tol))
+                for (bool extrapolate : { false, true })
+                    benchmark::RegisterBenchmark(
+                        ("Step/" + box + "/" + m.name + (extrapolate ? "+x" : "") + "/tol" + t).c_str(),
+                        run_steps, n, m.options, extrapolate)
+                        ->Unit(benchmark::kMillisecond)
+                        ->Iterations(kTimed);
+        }
+    }
+    benchmark::RegisterBenchmark("Triad", triad_bench)->Unit(benchmark::kMillisecond);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
