@@ -1,0 +1,98 @@
+// Benchmark report (see bench_report.hpp).
+#include "bench_report.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sys/utsname.h>
+#include <thread>
+
+namespace polycut::bench {
+
+namespace {
+
+using json = nlohmann::json;
+
+double round3(double v) {
+    return std::round(v * 1000.0) / 1000.0;
+}
+
+json distribution(const std::vector<double>& sample) {
+    const Summary s = summarize(sample);
+    return { { "count", s.count }, { "p50", round3(s.median) }, { "p95", round3(s.p95) },
+        { "p99", round3(s.p99) }, { "max", round3(s.max) }, { "mean", round3(s.mean) } };
+}
+
+std::string command_name(ProbeCommand c) {
+    switch (c) {
+    case ProbeCommand::ApplyForce:
+        return "apply_force";
+    case ProbeCommand::Scalpel:
+        return "scalpel";
+    case ProbeCommand::Cut:
+        return "cut";
+    }
+    return "?";
+}
+
+} // namespace
+
+std::string machine_json() {
+    json m;
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(cpuinfo, line)) {
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            m["cpu"] = colon == std::string::npos ? line : line.substr(colon + 2);
+            break;
+        }
+    }
+    m["logical_cpus"] = std::thread::hardware_concurrency();
+    utsname u {};
+    if (::uname(&u) == 0) {
+        m["kernel"] = std::string(u.sysname) + " " + u.release;
+        m["host"] = u.nodename;
+    }
+    std::ifstream loadavg("/proc/loadavg");
+    double l1 = 0;
+    if (loadavg >> l1) {
+        m["load_average_1min"] = l1;
+    }
+    return m.dump();
+}
+
+std::string report_json(const ProbeOptions& options, const ProbeResult& r) {
+    json out;
+    out["machine"] = json::parse(machine_json());
+    out["config"] = { { "server", options.server }, { "duration_s", options.duration_s },
+        { "command", command_name(options.command) },
+        { "command_rate_hz", options.command_rate_hz }, { "rtt_rate_hz", options.rtt_rate_hz },
+        { "subscribers", options.subscribers }, { "scene", r.scene },
+        { "vertex_count", r.vertex_count }, { "triangle_count", r.triangle_count } };
+    out["control_rtt_ms"] = distribution(r.control_rtt_ms);
+    out["command_ack_ms"] = distribution(r.command_ack_ms);
+    out["command_to_visible_ms"] = distribution(r.visible_ms);
+    out["command_to_visible_ticks"] = distribution(r.visible_ticks);
+    out["server"] = { { "rate_hz", r.rate_hz }, { "tick_budget_ms", round3(1000.0 / r.rate_hz) },
+        { "step_ms", distribution(r.step_ms) },
+        { "frame_interval_ms", distribution(r.frame_interval_ms) }, { "ticks", r.ticks },
+        { "ticks_over_budget", r.ticks_over_budget }, { "worst_tick_ms", round3(r.worst_tick_ms) },
+        { "stats_step_ms_p50", round3(r.stats_step_ms_p50) },
+        { "stats_step_ms_p99", round3(r.stats_step_ms_p99) },
+        { "stream_dropped", r.stream_dropped } };
+    out["stream"] = { { "frames", r.frames }, { "gaps", r.gaps },
+        { "extra_subscriber_frames", r.extra_frames } };
+    out["commands"] = { { "sent", r.commands_sent }, { "visible", r.commands_visible },
+        { "errors", r.command_errors },
+        { "not_visible", r.commands_sent - r.commands_visible - r.command_errors } };
+    out["wall_s"] = round3(r.wall_s);
+    return out.dump();
+}
+
+std::vector<HistogramPanel> report_panels(const ProbeResult& r) {
+    return { { "command to visible", "ms", r.visible_ms },
+        { "control round trip", "ms", r.control_rtt_ms }, { "server step", "ms", r.step_ms } };
+}
+
+} // namespace polycut::bench

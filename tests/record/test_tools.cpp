@@ -1,0 +1,150 @@
+// Small parts of polycut-record and polycut-bench: the command line, the progress bar line, the
+// histogram figure and the benchmark report's keys.
+#include "bench_report.hpp"
+#include "bitmap_font.hpp"
+#include "histogram_plot.hpp"
+#include "polycut/common/error.hpp"
+#include "progress_bar.hpp"
+#include "record_options.hpp"
+#include "test_support.hpp"
+
+#include <cmath>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <set>
+
+namespace polycut {
+namespace {
+
+TEST(RecordOptions, ParsesALiveRecording) {
+    const auto c = record::parse_record_command({ "--server", "tcp://127.0.0.1:7000", "--every",
+        "2", "--frames", "30", "--mp4", "out.mp4", "--size", "320x240", "--msaa", "0" });
+    EXPECT_FALSE(c.offline);
+    EXPECT_EQ(c.live.server, "tcp://127.0.0.1:7000");
+    EXPECT_EQ(c.live.every, 2);
+    EXPECT_EQ(c.live.max_frames, 30);
+    EXPECT_EQ(c.mp4, "out.mp4");
+    EXPECT_EQ(c.render.width, 320);
+    EXPECT_EQ(c.render.height, 240);
+    EXPECT_EQ(c.render.msaa, 0);
+}
+
+TEST(RecordOptions, ParsesAnOfflineRecording) {
+    const auto c = record::parse_record_command(
+        { "--offline", "scene.json", "--commands", "log.jsonl", "--png-dir", "frames" });
+    EXPECT_TRUE(c.offline);
+    EXPECT_EQ(c.offline_options.scene_file, "scene.json");
+    EXPECT_EQ(c.offline_options.commands, "log.jsonl");
+    EXPECT_EQ(c.png_dir, "frames");
+}
+
+TEST(RecordOptions, RejectsBadCommandLinesNamingTheOption) {
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        { { "--frames", "10" }, "--png-dir" }, // no output
+        { { "--png-dir", "a", "--mp4", "b" }, "--png-dir" }, // both outputs
+        { { "--png-dir", "a", "--every", "0" }, "--every" },
+        { { "--png-dir", "a", "--frames", "2.5" }, "--frames" },
+        { { "--png-dir", "a", "--size", "640" }, "--size" },
+        { { "--png-dir", "a", "--frames", "3", "--seconds", "2" }, "--seconds" },
+        { { "--png-dir", "a", "--commands", "log" }, "--commands" },
+        { { "--png-dir", "a", "--bogus", "1" }, "--bogus" },
+        { { "--png-dir" }, "--png-dir" },
+    };
+    for (const auto& [args, option] : cases) {
+        try {
+            record::parse_record_command(args);
+            ADD_FAILURE() << "accepted " << args.front();
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.where(), option);
+        }
+    }
+}
+
+TEST(ProgressBar, LineShowsFractionCountsAndRate) {
+    const std::string line = record::ProgressBar::line("rec", "ticks", 150, 600, 10.0);
+    EXPECT_NE(line.find(" 25%"), std::string::npos) << line;
+    EXPECT_NE(line.find("150/600 ticks"), std::string::npos) << line;
+    EXPECT_NE(line.find("15.0/s"), std::string::npos) << line;
+    EXPECT_NE(line.find("ETA 30 s"), std::string::npos) << line;
+    EXPECT_NE(line.find("[#######.....................]"), std::string::npos) << line;
+    const std::string done = record::ProgressBar::line("rec", "ticks", 600, 600, 10.0);
+    EXPECT_NE(done.find("100%"), std::string::npos);
+    EXPECT_EQ(done.find("ETA"), std::string::npos);
+}
+
+TEST(BitmapFont, DrawsInkInsideTheTextBox) {
+    render::Image image;
+    image.width = 100;
+    image.height = 20;
+    image.rgba.assign(100 * 20 * 4, 0);
+    const int end = bench::draw_text(image, 2, 3, "P99 12.5", { 255, 255, 255 }, 1);
+    EXPECT_EQ(end, 2 + bench::text_width("P99 12.5"));
+    long ink = 0, outside = 0;
+    for (int y = 0; y < 20; ++y) {
+        for (int x = 0; x < 100; ++x) {
+            const bool lit = image.pixel(x, y)[0] == 255;
+            const bool inside = x >= 2 && x < end && y >= 3 && y < 3 + bench::kGlyphHeight;
+            ink += lit && inside ? 1 : 0;
+            outside += lit && !inside ? 1 : 0;
+        }
+    }
+    EXPECT_GT(ink, 40);
+    EXPECT_EQ(outside, 0);
+}
+
+TEST(HistogramPlot, WritesANonTrivialPng) {
+    std::vector<double> normal, flat;
+    for (int k = 0; k < 2000; ++k) {
+        // A deterministic bell-ish sample around 20 ms and a uniform one.
+        const double u = (k % 97) / 97.0, v = (k % 89) / 89.0, w = (k % 83) / 83.0;
+        normal.push_back(10 + 10 * (u + v + w) / 1.5);
+        flat.push_back(0.5 + 1.5 * u);
+    }
+    const render::Image image = bench::plot_histograms({ { "command to visible", "ms", normal },
+        { "round trip", "ms", flat }, { "empty", "ms", {} } });
+    EXPECT_EQ(image.width, 900);
+    EXPECT_EQ(image.height, 3 * 240);
+    const std::string path = record::test::scratch_dir("histogram") + "/h.png";
+    render::write_png(path, image);
+    const render::Image back = render::read_png(path);
+    ASSERT_EQ(back.rgba, image.rgba);
+    std::set<std::uint32_t> colours;
+    long bar_pixels = 0;
+    for (int y = 0; y < back.height; ++y) {
+        for (int x = 0; x < back.width; ++x) {
+            const std::uint8_t* p = back.pixel(x, y);
+            colours.insert(std::uint32_t(p[0]) << 16 | std::uint32_t(p[1]) << 8 | p[2]);
+            bar_pixels += (p[0] == 70 && p[1] == 120 && p[2] == 190) ? 1 : 0;
+        }
+    }
+    EXPECT_GE(colours.size(), 5u); // background, ink, grid, bars, p50, p99
+    EXPECT_GT(bar_pixels, 5000); // two panels of bars
+}
+
+TEST(BenchReport, JsonHasTheDocumentedKeys) {
+    bench::ProbeOptions options;
+    bench::ProbeResult r;
+    r.control_rtt_ms = { 0.3, 0.4, 0.5 };
+    r.visible_ms = { 10, 12, 30 };
+    r.visible_ticks = { 1, 1, 2 };
+    r.step_ms = { 2, 3 };
+    r.rate_hz = 60;
+    const auto j = nlohmann::json::parse(bench::report_json(options, r));
+    for (const char* key :
+        { "machine", "config", "control_rtt_ms", "command_ack_ms", "command_to_visible_ms",
+            "command_to_visible_ticks", "server", "stream", "commands" }) {
+        EXPECT_TRUE(j.contains(key)) << key;
+    }
+    for (const char* key : { "count", "p50", "p95", "p99", "max", "mean" }) {
+        EXPECT_TRUE(j["command_to_visible_ms"].contains(key)) << key;
+    }
+    EXPECT_EQ(j["command_to_visible_ms"]["count"], 3);
+    EXPECT_DOUBLE_EQ(j["command_to_visible_ms"]["p50"].get<double>(), 12.0);
+    EXPECT_DOUBLE_EQ(j["command_to_visible_ms"]["max"].get<double>(), 30.0);
+    EXPECT_TRUE(j["server"].contains("step_ms"));
+    EXPECT_TRUE(j["server"].contains("ticks_over_budget"));
+    EXPECT_TRUE(j["machine"].contains("logical_cpus"));
+}
+
+} // namespace
+} // namespace polycut
