@@ -101,12 +101,12 @@ void draw_panel(
     };
     vertical_dashes(image, x_of(s.median), plot_top, plot_bottom, kP50);
     vertical_dashes(image, x_of(s.p99), plot_top, plot_bottom, kP99);
-    const auto label = [&](int x, int y, const char* text, const Colour& colour) {
+    const auto marker = [&](int x, int y, const char* text, const Colour& colour) {
         fill_rect(image, x - 1, y - 1, x + text_width(text) + 1, y + kGlyphHeight + 1, kBackground);
         draw_text(image, x, y, text, colour, 1);
     };
-    label(x_of(s.median) + 4, plot_top + 2, "P50", kP50);
-    label(x_of(s.p99) + 4, plot_top + 12, "P99", kP99);
+    marker(x_of(s.median) + 4, plot_top + 2, "P50", kP50);
+    marker(x_of(s.p99) + 4, plot_top + 12, "P99", kP99);
     // Tick labels: x at 0, 1/4 ... 1; y peak count.
     for (int t = 0; t <= 4; ++t) {
         const double v = x_max * t / 4;
