@@ -100,6 +100,7 @@ void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
     m_forces.clear();
     m_grabs.clear();
     m_strokes.clear();
+    m_pending_sweep.clear();
 }
 
 std::int64_t Session::tick() const { return m_sim ? m_sim->tick() : 0; }
@@ -112,6 +113,12 @@ ApplyOutcome Session::apply(
     const Method method = protocol::method_of(params);
     if (method != Method::LoadScene && !m_sim) {
         return make_error(ErrorCode::SimulationError, "", "no scene is loaded (call load_scene)");
+    }
+    if (method == Method::LoadScene || method == Method::Reset) {
+        m_pending_sweep.clear(); // the state they would cut is discarded anyway
+    } else if (method != Method::Scalpel) {
+        // Keep arrival order: queued blade sweeps happen before any later command.
+        flush_sweeps();
     }
     try {
         return std::visit(
@@ -153,12 +160,44 @@ sim::StepReport Session::step() {
     if (!m_sim) {
         return {};
     }
+    const std::string rejected = flush_sweeps();
     sim::StepReport report = m_sim->step();
+    if (!rejected.empty()) {
+        report.warnings.push_back("scalpel sweep rejected: " + rejected);
+    }
     if (report.topology_changed) {
         m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
     }
     prune_expired_forces();
     return report;
+}
+
+std::string Session::flush_sweeps() {
+    if (m_pending_sweep.empty() || !m_sim) {
+        m_pending_sweep.clear();
+        return {};
+    }
+    std::vector<std::array<Vec3, 3>> sweep;
+    sweep.swap(m_pending_sweep);
+    auto summary = run_cut(sweep, "/params");
+    if (summary) {
+        return {};
+    }
+    // The sim's degeneracy test is relative to the tissue size; drop such triangles and retry.
+    if (summary.error().reason.find("degenerate") != std::string::npos && sweep.size() > 1) {
+        std::vector<std::array<Vec3, 3>> kept;
+        for (const auto& tri : sweep) {
+            try {
+                m_sim->cut({ tri });
+                kept.push_back(tri);
+            } catch (const InputError&) {
+                // skipped: degenerate at the tissue's scale
+            }
+        }
+        m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+        return kept.empty() ? summary.error().reason : std::string();
+    }
+    return summary.error().reason;
 }
 
 void Session::prune_expired_forces() {
@@ -224,6 +263,7 @@ ApplyOutcome Session::reset() {
     m_forces.clear();
     m_grabs.clear();
     m_strokes.clear();
+    m_pending_sweep.clear();
     return Applied { protocol::RunState { 0, false, 0.0 }, true, "reset" };
 }
 
@@ -352,23 +392,11 @@ ApplyOutcome Session::scalpel(
     const std::array<protocol::Triangle3, 2> quad
         = { protocol::Triangle3 { stroke->a, stroke->b, p.a },
               protocol::Triangle3 { stroke->b, p.b, p.a } };
-    std::vector<std::array<Vec3, 3>> world;
+    std::uint32_t added = 0;
     for (const auto& tri : quad) {
         if (!protocol::triangle_defect(tri)) {
-            world.push_back({ to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) });
-        }
-    }
-    std::uint32_t added = 0;
-    if (!world.empty()) {
-        auto summary = run_cut(world, "/params");
-        if (!summary) {
-            // The sim's own degeneracy test is relative to the tissue size: skip such samples
-            // like the protocol's degenerate ones, but keep other rejections as errors.
-            if (summary.error().reason.find("degenerate") == std::string::npos) {
-                return summary.error();
-            }
-        } else {
-            added = static_cast<std::uint32_t>(world.size());
+            m_pending_sweep.push_back({ to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) });
+            ++added;
         }
     }
     stroke->a = p.a;
@@ -386,6 +414,8 @@ ApplyOutcome Session::end_stroke(const protocol::EndStrokeParams& p, std::string
     }
     const std::uint32_t total = stroke->triangles;
     m_strokes.close(client, p.stroke);
+    // The stroke's last sweep is applied now, so the reply's topology_version includes it.
+    flush_sweeps();
     return done(protocol::CutResult { effect_tick(), m_sim->topology_version(), total });
 }
 
@@ -415,6 +445,11 @@ std::uint64_t Session::state_hash() const {
         mix_value(id);
         mix(g.target.data(), sizeof g.target);
         mix(g.spec.data(), sizeof g.spec);
+    }
+    for (const auto& tri : m_pending_sweep) {
+        for (const Vec3& p : tri) {
+            mix(p.data(), 3 * sizeof(double));
+        }
     }
     for (const auto& [key, s] : m_strokes.entries()) {
         mix(key.first.data(), key.first.size());

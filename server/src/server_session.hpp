@@ -60,8 +60,15 @@ public:
     /// `now_s` is a monotonic wall time [s] used only to expire idle strokes.
     ApplyOutcome apply(const protocol::Params& params, std::string_view client, double now_s);
 
-    /// Advances one tick (no-op report when no scene is loaded). Never throws.
+    /// Advances one tick (no-op report when no scene is loaded): first applies the scalpel
+    /// sweep triangles queued since the last tick as one cut, then steps. Never throws; a
+    /// rejected sweep is reported as a warning of the step.
     sim::StepReport step();
+    /// Applies the queued scalpel sweep triangles now (end_stroke, step). Never throws; returns
+    /// the sim's reason when it rejected them (nothing changed then), empty on success.
+    std::string flush_sweeps();
+    /// Scalpel sweep triangles waiting for the next tick.
+    std::size_t pending_sweep_triangles() const { return m_pending_sweep.size(); }
 
     /// Drops everything kept for a client (its open strokes).
     void drop_client(std::string_view client);
@@ -127,6 +134,10 @@ private:
     std::map<std::uint64_t, GrabEntry> m_grabs;
     std::uint64_t m_next_id = 1; ///< wire ids of forces and grabs, never reused
     StrokeTable m_strokes;
+    /// Scalpel sweep triangles received since the last tick, applied together at its start:
+    /// one cut per tick however fast the blade samples arrive, so a slow cut cannot queue up
+    /// one cut per sample behind it.
+    std::vector<std::array<Vec3, 3>> m_pending_sweep;
 };
 
 } // namespace polycut::server
