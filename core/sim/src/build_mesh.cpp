@@ -1,6 +1,7 @@
 #include "polycut/sim/build_mesh.hpp"
 
 #include "polycut/common/error.hpp"
+#include "polycut/cut/random_planes.hpp"
 #include "polycut/mesh/builders.hpp"
 #include "polycut/mesh/io.hpp"
 #include "polycut/mesh/validate.hpp"
@@ -38,9 +39,13 @@ mesh::Mesh build_mesh(const scene::Scene& s)
         grid.lo = g.origin;
         grid.hi = g.origin + g.size;
         grid.cells = g.cells;
-        if (g.kind == scene::Geometry::Kind::RandomPlanes)
-            throw SceneError("/geometry/type", "\"random_planes\" is not available yet");
-        if (g.elements == "hex")
+        if (g.kind == scene::Geometry::Kind::RandomPlanes) {
+            // 000 Fig. 2: each hex block split by random planes into convex polyhedra; one plane
+            // per split, cells picked in proportion to volume, planes_per_cell splits per block on
+            // average.
+            const mesh::Mesh hexes = mesh::hex_grid(grid);
+            m = cut::split_by_random_planes(hexes, g.planes_per_cell * int(hexes.num_cells()), g.seed);
+        } else if (g.elements == "hex")
             m = mesh::hex_grid(grid);
         else
             m = mesh::tet_grid(grid, g.tet_split == "five" ? mesh::TetSplit::Five : mesh::TetSplit::Kuhn6);
@@ -85,7 +90,10 @@ mesh::Mesh build_mesh(const scene::Scene& s)
     }
     if (m.num_cells() == 0)
         throw SceneError("/geometry", "the geometry produced no cells");
-    mesh::validate(m);
+    mesh::ValidationOptions checks;
+    if (g.kind == scene::Geometry::Kind::RandomPlanes)
+        checks.planarity_tol = 2e-2; // plane splits snap nodes within the cutter's tolerance
+    mesh::validate(m, checks);
     if ((s.method == "tet") && std::any_of(m.cells.begin(), m.cells.end(),
             [](const mesh::Cell& c) { return c.shape != mesh::CellShape::Tet; }))
         throw SceneError("/method", "\"tet\" needs a pure tetrahedral mesh; this geometry has other "

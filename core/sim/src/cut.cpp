@@ -45,7 +45,11 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
         if (!(area > 1e-10 * L * L))
             throw InputError(where, "is degenerate (zero area)");
     }
-    if (!s.cutter) {
+    const bool snap = s.scene.cutting.method == "snap";
+    if (snap && !s.snap_cutter) {
+        cut::SnapOptions opt;
+        s.snap_cutter = std::make_unique<cut::SnapCutter>(s.mesh, opt);
+    } else if (!snap && !s.cutter) {
         cut::CutOptions opt;
         opt.snap = s.scene.cutting.snap_distance;
         opt.sliver_volume = s.scene.cutting.sliver_volume;
@@ -88,7 +92,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
         summary.cells_after = s.mesh.num_cells();
         return summary;
     }
-    const cut::CutReport report = s.cutter->cut(rest);
+    const cut::CutReport report = snap ? s.snap_cutter->cut(rest) : s.cutter->cut(rest);
     summary.triangles_applied = int(report.triangles - report.triangles_missed);
     summary.cells_split = int(report.new_cells.size());
     summary.nodes_added = int(report.nodes_after - report.nodes_before);
@@ -100,24 +104,63 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
     return summary;
 }
 
+void Simulation::end_stroke()
+{
+    if (m_impl->snap_cutter)
+        m_impl->snap_cutter->end_sweep();
+}
+
 void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report)
 {
     const Index n_old = report.nodes_before, n_new = report.nodes_after;
-    // New nodes take displacement and velocity from the material they came from.
-    state.x.conservativeResize(n_new, 3);
-    state.v.conservativeResize(n_new, 3);
-    node_fixed_mask.resize(3 * std::size_t(n_new), 0);
-    VecX loads = VecX::Zero(3 * n_new);
-    loads.head(3 * n_old) = scene_forces;
-    scene_forces = loads;
+    // Surviving nodes keep their state (renumbered by node_map when the snap cutter compacted
+    // nodes); new nodes take displacement and velocity from the material they came from.
+    const MatX3 x_old = state.x, v_old = state.v;
+    const std::vector<std::uint8_t> fixed_old = node_fixed_mask;
+    const VecX loads_old = scene_forces;
+    state.x = MatX3::Zero(n_new, 3);
+    state.v = MatX3::Zero(n_new, 3);
+    node_fixed_mask.assign(3 * std::size_t(n_new), 0);
+    scene_forces = VecX::Zero(3 * n_new);
+    auto new_id = [&](Index i) { return report.node_map.empty() ? i : report.node_map[std::size_t(i)]; };
+    for (Index i = 0; i < n_old; ++i) {
+        const Index j = new_id(i);
+        if (j == kNone)
+            continue;
+        state.x.row(j) = x_old.row(i);
+        state.v.row(j) = v_old.row(i);
+        scene_forces.segment<3>(3 * j) = loads_old.segment<3>(3 * i);
+        for (std::size_t k = 0; k < 3; ++k)
+            node_fixed_mask[3 * std::size_t(j) + k] = fixed_old[3 * std::size_t(i) + k];
+    }
+    // Forces and grabs follow their material nodes.
+    auto remap = [&](NodeWeights& at) {
+        NodeWeights out;
+        double total = 0;
+        for (std::size_t k = 0; k < at.nodes.size(); ++k)
+            if (const Index j = new_id(at.nodes[k]); j != kNone) {
+                out.nodes.push_back(j);
+                out.weights.push_back(at.weights[k]);
+                total += at.weights[k];
+            }
+        for (double& w : out.weights)
+            w /= total > 0 ? total : 1.0;
+        at = out;
+    };
+    if (!report.node_map.empty()) {
+        for (auto& [id, f] : forces)
+            remap(f.at);
+        for (auto& [id, g] : grabs)
+            remap(g.at);
+    }
     for (const cut::NodeOrigin& o : report.new_nodes) {
         Vec3 x = Vec3::Zero(), v = Vec3::Zero();
         std::array<bool, 3> fixed { true, true, true };
         for (const auto& [n, w] : o.weights) {
-            x += w * state.x.row(n).transpose();
-            v += w * state.v.row(n).transpose();
+            x += w * x_old.row(n).transpose();
+            v += w * v_old.row(n).transpose();
             for (int k = 0; k < 3; ++k)
-                fixed[std::size_t(k)] = fixed[std::size_t(k)] && node_fixed_mask[3 * std::size_t(n) + std::size_t(k)];
+                fixed[std::size_t(k)] = fixed[std::size_t(k)] && fixed_old[3 * std::size_t(n) + std::size_t(k)];
         }
         state.x.row(o.node) = x.transpose();
         state.v.row(o.node) = v.transpose();
@@ -125,11 +168,16 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report)
         for (int k = 0; k < 3; ++k)
             node_fixed_mask[3 * std::size_t(o.node) + std::size_t(k)] = o.weights.empty() ? 0 : fixed[std::size_t(k)];
     }
-    model->set_fixed_dofs(node_fixed_mask);
-    if (!report.removed_cells.empty())
+    // Nodes the snap cutter moved in rest space keep their displacement (the material point
+    // moved by the snap distance, a fraction of a cell; 002 sec. 3.2.2 snaps in the reference
+    // configuration for the same reason).
+    for (const auto& [node, old_rest] : report.moved_nodes)
+        state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
+    if (!report.removed_cells.empty() || !report.node_map.empty())
         model->rebuild_topology();
     else
         model->update_cells(report.changed_cells);
+    model->set_fixed_dofs(node_fixed_mask);
     static_solved = false;
     sync_positions();
     refresh_topology();

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "polycut/cut/cutter.hpp"
+#include "polycut/cut/snap_cutter.hpp"
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/integrate/integrator.hpp"
 #include "polycut/integrate/options.hpp"
@@ -39,7 +40,8 @@ struct Simulation::Impl {
     std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets
     std::unique_ptr<elasticity::ElasticModel> model;
     std::unique_ptr<integrate::Integrator> integrator;
-    std::unique_ptr<cut::Cutter> cutter;
+    std::unique_ptr<cut::Cutter> cutter;          ///< cutting.method "split"
+    std::unique_ptr<cut::SnapCutter> snap_cutter; ///< cutting.method "snap" (tet meshes)
     integrate::State state;
     VecX scene_forces; ///< (3#N) constant nodal loads from the scene [N]
     VecX f_ext;        ///< (3#N) work vector [N]

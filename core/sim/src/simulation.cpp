@@ -35,6 +35,7 @@ void Simulation::Impl::build()
         mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
     integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
     cutter.reset();
+    snap_cutter.reset();
     state = integrator->rest_state();
     forces.clear();
     grabs.clear();

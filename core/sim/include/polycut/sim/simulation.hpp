@@ -99,6 +99,9 @@ public:
     /// Cuts along world-space sweep triangles. Throws InputError for degenerate or non-finite
     /// triangles without change; triangles outside the tissue change nothing.
     CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles);
+    /// Ends the current scalpel stroke: the face-snapping cutter forgets the incomplete tets it
+    /// remembered between triangles (002 sec. 3.2.1). Cell splitting needs no such state.
+    void end_stroke();
 
     /// Surface in the current configuration.
     Surface surface() const;
