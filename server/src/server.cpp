@@ -2,10 +2,9 @@
 // absolute: deadline k = anchor + k * period on steady_clock, so sleeping and polling jitter
 // never accumulates into drift. A loop that falls more than one period behind (a long cut or
 // scene load) re-anchors at the present instead of bursting ticks to catch up.
-#include "server_impl.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "server_impl.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -48,8 +47,8 @@ Server::Impl::Impl(ServerConfig cfg, std::atomic<bool>& stop_flag)
     , session(session_config(config))
     , reply_cache(config.reply_cache) {
     if (!(config.rate_hz > 0.0) || config.rate_hz > config.limits.max_rate_hz) {
-        throw InputError("--rate", "must be in (0, " + std::to_string(config.limits.max_rate_hz)
-                + "] Hz");
+        throw InputError(
+            "--rate", "must be in (0, " + std::to_string(config.limits.max_rate_hz) + "] Hz");
     }
     rate_hz = config.rate_hz;
     running = !config.paused;
@@ -143,8 +142,7 @@ void Server::Impl::run_tick() {
     const auto t0 = Clock::now();
     const sim::StepReport report = session.step();
     publish_surface(report, false);
-    const double tick_ms
-        = std::chrono::duration<double, std::milli>(Clock::now() - t0).count()
+    const double tick_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count()
         + command_ms_since_tick;
     command_ms_since_tick = 0.0;
     ++ticks_total;
@@ -211,10 +209,9 @@ void Server::Impl::log_line() {
         "[info] polycut-server: tick %lld %s rate %.1f/%.1f Hz step p50 %.2f p99 %.2f ms "
         "over-budget %llu worst %.1f ms requests %llu errors %llu clients %zu dropped %llu\n",
         static_cast<long long>(session.tick()), running ? "running" : "paused", measured, rate_hz,
-        step_p50_ms, step_p99_ms, static_cast<unsigned long long>(ticks_over_budget),
-        worst_tick_ms, static_cast<unsigned long long>(requests),
-        static_cast<unsigned long long>(errors), clients.size(),
-        static_cast<unsigned long long>(stream_dropped));
+        step_p50_ms, step_p99_ms, static_cast<unsigned long long>(ticks_over_budget), worst_tick_ms,
+        static_cast<unsigned long long>(requests), static_cast<unsigned long long>(errors),
+        clients.size(), static_cast<unsigned long long>(stream_dropped));
 }
 
 Server::Server(ServerConfig config)
@@ -222,9 +219,15 @@ Server::Server(ServerConfig config)
 
 Server::~Server() = default;
 
-std::string Server::control_endpoint() const { return m_impl->control_endpoint; }
-std::string Server::stream_endpoint() const { return m_impl->stream_endpoint; }
+std::string Server::control_endpoint() const {
+    return m_impl->control_endpoint;
+}
+std::string Server::stream_endpoint() const {
+    return m_impl->stream_endpoint;
+}
 
-void Server::run() { m_impl->run(); }
+void Server::run() {
+    m_impl->run();
+}
 
 } // namespace polycut::server

@@ -2,13 +2,11 @@
 // dispatch to the session and the run state, and replies. Bad input of any kind is answered
 // with a JSON-RPC error (or, for notifications, counted and published as a `rejected` event)
 // and never reaches the simulation (docs/protocol.md "Errors").
+#include "polycut/common/error.hpp"
 #include "server_impl.hpp"
 
-#include "polycut/common/error.hpp"
-
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 namespace polycut::server {
 
@@ -73,8 +71,8 @@ bool Server::Impl::receive(protocol::Message& frames, std::size_t& total_frames)
         zmq::message_t part;
         zmq::recv_result_t got;
         try {
-            got = control.recv(part, total_frames == 0 ? zmq::recv_flags::dontwait
-                                                       : zmq::recv_flags::none);
+            got = control.recv(
+                part, total_frames == 0 ? zmq::recv_flags::dontwait : zmq::recv_flags::none);
         } catch (const zmq::error_t& e) {
             if (e.num() == EINTR && total_frames == 0) {
                 return false;
@@ -247,11 +245,13 @@ void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::R
         return;
     case Method::Step: {
         if (running) {
-            fail(make_error(ErrorCode::StateConflict, "", "step runs only while paused; pause first"));
+            fail(make_error(
+                ErrorCode::StateConflict, "", "step runs only while paused; pause first"));
             return;
         }
         if (!session.has_scene()) {
-            fail(make_error(ErrorCode::SimulationError, "", "no scene is loaded (call load_scene)"));
+            fail(
+                make_error(ErrorCode::SimulationError, "", "no scene is loaded (call load_scene)"));
             return;
         }
         const auto& p = std::get<protocol::StepParams>(request.params);
@@ -264,7 +264,8 @@ void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::R
         return;
     case Method::GetSurface:
         if (!session.has_scene() || seq == 0) {
-            fail(make_error(ErrorCode::SimulationError, "", "no scene is loaded (call load_scene)"));
+            fail(
+                make_error(ErrorCode::SimulationError, "", "no scene is loaded (call load_scene)"));
             return;
         }
         answer(snapshot());
@@ -326,10 +327,11 @@ void Server::Impl::reply_error(const protocol::Message& envelope, const protocol
 
 void Server::Impl::reject_notification(std::string_view method, const protocol::RpcError& error) {
     ++errors;
-    nlohmann::json detail = { { "method", std::string(method) },
-        { "code", static_cast<int>(error.code) }, { "pointer", error.pointer },
-        { "reason", error.reason } };
-    publish_event("rejected", detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), 0);
+    nlohmann::json detail
+        = { { "method", std::string(method) }, { "code", static_cast<int>(error.code) },
+              { "pointer", error.pointer }, { "reason", error.reason } };
+    publish_event(
+        "rejected", detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), 0);
 }
 
 protocol::HelloResult Server::Impl::hello() const {

@@ -9,14 +9,13 @@
 #include "server_reply_cache.hpp"
 #include "server_session.hpp"
 
-#include <zmq.hpp>
-
 #include <chrono>
 #include <deque>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
+#include <zmq.hpp>
 
 namespace polycut::server {
 

@@ -10,12 +10,11 @@
 #include "server.hpp"
 #include "server_command_log.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace {

@@ -19,9 +19,13 @@ using protocol::make_error;
 using protocol::RpcError;
 
 /// A result that did not change the scene.
-Applied done(protocol::Result result) { return Applied { std::move(result), false, {} }; }
+Applied done(protocol::Result result) {
+    return Applied { std::move(result), false, {} };
+}
 
-Vec3 to_vec(const protocol::Vector3& v) { return Vec3(v[0], v[1], v[2]); }
+Vec3 to_vec(const protocol::Vector3& v) {
+    return Vec3(v[0], v[1], v[2]);
+}
 
 /// Sim InputError locations are relative ("triangles/3/1"); make them a pointer under `base`.
 std::string pointer_under(std::string_view base, const std::string& where) {
@@ -88,8 +92,8 @@ bool Session::is_mutation(protocol::Method method) {
 
 void Session::load_scene_file(const std::string& path) {
     scene::Scene scene = scene::load_scene(path);
-    std::string name = scene.name.empty() ? std::filesystem::path(path).stem().string()
-                                          : scene.name;
+    std::string name
+        = scene.name.empty() ? std::filesystem::path(path).stem().string() : scene.name;
     install(std::make_unique<sim::Simulation>(std::move(scene)), std::move(name));
 }
 
@@ -103,12 +107,17 @@ void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
     m_pending_sweep.clear();
 }
 
-std::int64_t Session::tick() const { return m_sim ? m_sim->tick() : 0; }
-double Session::sim_time() const { return m_sim ? m_sim->time() : 0.0; }
-std::uint64_t Session::topology_version() const { return m_sim ? m_sim->topology_version() : 0; }
+std::int64_t Session::tick() const {
+    return m_sim ? m_sim->tick() : 0;
+}
+double Session::sim_time() const {
+    return m_sim ? m_sim->time() : 0.0;
+}
+std::uint64_t Session::topology_version() const {
+    return m_sim ? m_sim->topology_version() : 0;
+}
 
-ApplyOutcome Session::apply(
-    const protocol::Params& params, std::string_view client, double now_s) {
+ApplyOutcome Session::apply(const protocol::Params& params, std::string_view client, double now_s) {
     using protocol::Method;
     const Method method = protocol::method_of(params);
     if (method != Method::LoadScene && !m_sim) {
@@ -207,8 +216,12 @@ void Session::prune_expired_forces() {
     });
 }
 
-void Session::drop_client(std::string_view client) { m_strokes.drop_client(client); }
-void Session::expire(double now_s) { m_strokes.expire(now_s); }
+void Session::drop_client(std::string_view client) {
+    m_strokes.drop_client(client);
+}
+void Session::expire(double now_s) {
+    m_strokes.expire(now_s);
+}
 
 ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
     std::unique_ptr<sim::Simulation> sim;
@@ -239,8 +252,8 @@ ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
         }
         return make_error(ErrorCode::SceneError, "/params/scene" + e.where(), e.problem());
     } catch (const Error& e) {
-        return make_error(ErrorCode::SceneError, p.name ? "/params/name" : "/params/scene",
-            e.what());
+        return make_error(
+            ErrorCode::SceneError, p.name ? "/params/name" : "/params/scene", e.what());
     } catch (const std::exception& e) {
         return make_error(ErrorCode::SceneError, p.name ? "/params/name" : "/params/scene",
             std::string("the scene could not be built: ") + e.what());
@@ -280,8 +293,8 @@ ApplyOutcome Session::apply_force(const protocol::ApplyForceParams& p) {
         return make_error(ErrorCode::InvalidParams, "/params/" + e.where(), e.problem());
     }
     entry.expires = p.duration ? m_sim->time() + *p.duration : 0.0;
-    entry.spec = { p.point[0], p.point[1], p.point[2], p.force[0], p.force[1], p.force[2],
-        p.radius };
+    entry.spec
+        = { p.point[0], p.point[1], p.point[2], p.force[0], p.force[1], p.force[2], p.radius };
     const std::uint64_t id = m_next_id++;
     m_forces.emplace(id, entry);
     return done(protocol::Created { id, effect_tick() });
@@ -290,8 +303,8 @@ ApplyOutcome Session::apply_force(const protocol::ApplyForceParams& p) {
 ApplyOutcome Session::remove_force(const protocol::RemoveForceParams& p) {
     auto it = m_forces.find(p.id);
     if (it == m_forces.end()) {
-        return make_error(ErrorCode::NotFound, "/params/id",
-            "no active force with id " + std::to_string(p.id));
+        return make_error(
+            ErrorCode::NotFound, "/params/id", "no active force with id " + std::to_string(p.id));
     }
     m_sim->remove_force(it->second.sim_id);
     m_forces.erase(it);
@@ -374,8 +387,8 @@ ApplyOutcome Session::cut(const protocol::CutParams& p) {
     if (!summary) {
         return summary.error();
     }
-    return done(protocol::CutResult { effect_tick(), m_sim->topology_version(),
-        static_cast<std::uint32_t>(p.triangles.size()) });
+    return done(protocol::CutResult {
+        effect_tick(), m_sim->topology_version(), static_cast<std::uint32_t>(p.triangles.size()) });
 }
 
 ApplyOutcome Session::scalpel(

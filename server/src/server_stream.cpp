@@ -49,9 +49,9 @@ void Server::Impl::publish_surface(const sim::StepReport& report, bool force_top
     last_header = std::move(h);
 
     if (topology && !force_topology) {
-        nlohmann::json detail = { { "topology_version", version },
-            { "triangle_count", last_header.triangle_count },
-            { "vertex_count", last_header.vertex_count } };
+        nlohmann::json detail
+            = { { "topology_version", version }, { "triangle_count", last_header.triangle_count },
+                  { "vertex_count", last_header.vertex_count } };
         if (last_cut_id) {
             detail["request"] = nlohmann::json::parse(protocol::to_json_text(*last_cut_id));
         }
@@ -59,14 +59,15 @@ void Server::Impl::publish_surface(const sim::StepReport& report, bool force_top
     }
     last_cut_id.reset();
     if (!report.warnings.empty()) {
-        nlohmann::json detail = { { "message", report.warnings.front() },
-            { "count", report.warnings.size() } };
+        nlohmann::json detail
+            = { { "message", report.warnings.front() }, { "count", report.warnings.size() } };
         publish_event(
             "warning", detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), seq);
     }
 }
 
-void Server::Impl::publish_event(std::string kind, std::string detail_json, std::uint64_t event_seq) {
+void Server::Impl::publish_event(
+    std::string kind, std::string detail_json, std::uint64_t event_seq) {
     protocol::Event e;
     e.kind = std::move(kind);
     e.tick = session.tick();

@@ -6,17 +6,16 @@
 #include "polycut/protocol/protocol.hpp"
 #include "server.hpp"
 
-#include <gtest/gtest.h>
-#include <zmq.hpp>
-
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <memory>
 #include <optional>
 #include <string>
 #include <thread>
 #include <unistd.h>
+#include <zmq.hpp>
 
 namespace polycut::server::testing {
 
@@ -141,8 +140,7 @@ inline void send_message(zmq::socket_t& socket, const protocol::Message& frames)
 /// A DEALER client.
 class Client {
 public:
-    Client(zmq::context_t& context, const std::string& endpoint,
-        const std::string& identity = {})
+    Client(zmq::context_t& context, const std::string& endpoint, const std::string& identity = {})
         : m_socket(context, zmq::socket_type::dealer) {
         m_socket.set(zmq::sockopt::linger, 0);
         if (!identity.empty()) {
@@ -177,7 +175,8 @@ public:
 
     /// Sends a notification (no reply expected).
     void notify(const protocol::Params& params) {
-        send_message(m_socket, protocol::encode_request(protocol::Request { std::nullopt, params }));
+        send_message(
+            m_socket, protocol::encode_request(protocol::Request { std::nullopt, params }));
     }
 
     /// The result of a call that must succeed, as type R.
@@ -185,8 +184,9 @@ public:
         const protocol::Reply reply = call(params, options);
         if (!reply.ok()) {
             const auto& e = std::get<protocol::RpcError>(reply.outcome);
-            ADD_FAILURE() << protocol::method_name(protocol::method_of(params)) << " failed: "
-                          << static_cast<int>(e.code) << " " << e.pointer << " " << e.reason;
+            ADD_FAILURE() << protocol::method_name(protocol::method_of(params))
+                          << " failed: " << static_cast<int>(e.code) << " " << e.pointer << " "
+                          << e.reason;
             return R {};
         }
         return std::get<R>(std::get<protocol::Result>(reply.outcome));

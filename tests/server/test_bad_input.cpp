@@ -35,7 +35,9 @@ struct Case {
     std::string pointer;
 };
 
-Message json_frame(const std::string& text) { return Message { text }; }
+Message json_frame(const std::string& text) {
+    return Message { text };
+}
 
 Message cut_frame_with(float bad_value) {
     std::vector<float> tris = { 0.0f, 0.003f, 0.03f, 0.01f, 0.003f, 0.03f, 0.0f, 0.003f, 0.01f };
@@ -49,26 +51,40 @@ std::vector<Case> cases() {
     std::vector<Case> c;
     c.push_back({ "malformed JSON", json_frame(R"({"jsonrpc": "2.0", "id": 1, "method": )"),
         ErrorCode::ParseError, "" });
-    c.push_back({ "invalid UTF-8", json_frame("{\"jsonrpc\":\"2.0\",\"id\":2,\"method\":\"he\xff\"}"),
-        ErrorCode::ParseError, "" });
-    c.push_back({ "number overflow", json_frame(R"({"jsonrpc":"2.0","id":3,"method":"apply_force","params":{"point":[0,0,1e999],"force":[0,0,-1],"radius":0.01}})"),
+    c.push_back(
+        { "invalid UTF-8", json_frame("{\"jsonrpc\":\"2.0\",\"id\":2,\"method\":\"he\xff\"}"),
+            ErrorCode::ParseError, "" });
+    c.push_back({ "number overflow",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":3,"method":"apply_force","params":{"point":[0,0,1e999],"force":[0,0,-1],"radius":0.01}})"),
         ErrorCode::ParseError, "" });
     c.push_back({ "not an object", json_frame("[1, 2, 3]"), ErrorCode::InvalidRequest, "" });
     c.push_back({ "wrong jsonrpc", json_frame(R"({"jsonrpc":"1.0","id":5,"method":"hello"})"),
         ErrorCode::InvalidRequest, "/jsonrpc" });
-    c.push_back({ "params not an object", json_frame(R"({"jsonrpc":"2.0","id":6,"method":"reset","params":[1]})"),
+    c.push_back({ "params not an object",
+        json_frame(R"({"jsonrpc":"2.0","id":6,"method":"reset","params":[1]})"),
         ErrorCode::InvalidRequest, "/params" });
-    c.push_back({ "unknown method", json_frame(R"({"jsonrpc":"2.0","id":7,"method":"Cut","params":{}})"),
-        ErrorCode::MethodNotFound, "/method" });
-    c.push_back({ "unknown param", json_frame(R"({"jsonrpc":"2.0","id":8,"method":"apply_force","params":{"point":[0,0,0.02],"force":[0,0,-1],"radius":0.01,"colour":"red"}})"),
+    c.push_back(
+        { "unknown method", json_frame(R"({"jsonrpc":"2.0","id":7,"method":"Cut","params":{}})"),
+            ErrorCode::MethodNotFound, "/method" });
+    c.push_back({ "unknown param",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":8,"method":"apply_force","params":{"point":[0,0,0.02],"force":[0,0,-1],"radius":0.01,"colour":"red"}})"),
         ErrorCode::InvalidParams, "/params/colour" });
-    c.push_back({ "missing param", json_frame(R"({"jsonrpc":"2.0","id":9,"method":"apply_force","params":{"point":[0,0,0.02],"force":[0,0,-1]}})"),
+    c.push_back({ "missing param",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":9,"method":"apply_force","params":{"point":[0,0,0.02],"force":[0,0,-1]}})"),
         ErrorCode::InvalidParams, "/params/radius" });
-    c.push_back({ "wrong type", json_frame(R"({"jsonrpc":"2.0","id":10,"method":"move_grab","params":{"id":1,"target":[0,0,"up"]}})"),
+    c.push_back({ "wrong type",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":10,"method":"move_grab","params":{"id":1,"target":[0,0,"up"]}})"),
         ErrorCode::InvalidParams, "/params/target/2" });
-    c.push_back({ "wrong array size", json_frame(R"({"jsonrpc":"2.0","id":11,"method":"grab","params":{"point":[0,0]}})"),
+    c.push_back({ "wrong array size",
+        json_frame(R"({"jsonrpc":"2.0","id":11,"method":"grab","params":{"point":[0,0]}})"),
         ErrorCode::InvalidParams, "/params/point" });
-    c.push_back({ "out of range", json_frame(R"({"jsonrpc":"2.0","id":12,"method":"apply_force","params":{"point":[0,0,0.02],"force":[0,0,-1],"radius":-1}})"),
+    c.push_back({ "out of range",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":12,"method":"apply_force","params":{"point":[0,0,0.02],"force":[0,0,-1],"radius":-1}})"),
         ErrorCode::InvalidParams, "/params/radius" });
     c.push_back({ "NaN in a float32 frame", cut_frame_with(std::numeric_limits<float>::quiet_NaN()),
         ErrorCode::InvalidParams, "/params/triangles/0/1/2" });
@@ -77,16 +93,20 @@ std::vector<Case> cases() {
     {
         Message m = cut_frame_with(0.03f);
         m[1].pop_back(); // 35 bytes instead of 36
-        c.push_back({ "frame of the wrong length", m, ErrorCode::InvalidParams, "/params/triangles" });
+        c.push_back(
+            { "frame of the wrong length", m, ErrorCode::InvalidParams, "/params/triangles" });
     }
     {
         Message m = json_frame(R"({"jsonrpc":"2.0","id":14,"method":"hello"})");
         m.push_back("unreferenced");
         c.push_back({ "unreferenced frame", m, ErrorCode::InvalidRequest, "" });
     }
-    c.push_back({ "degenerate triangle", json_frame(R"({"jsonrpc":"2.0","id":"cut-9","method":"cut","params":{"triangles":[[[0,0,0],[0.1,0,0],[0.2,0,0]]]}})"),
+    c.push_back({ "degenerate triangle",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":"cut-9","method":"cut","params":{"triangles":[[[0,0,0],[0.1,0,0],[0.2,0,0]]]}})"),
         ErrorCode::CutRejected, "/params/triangles/0" });
-    c.push_back({ "empty cut", json_frame(R"({"jsonrpc":"2.0","id":16,"method":"cut","params":{"triangles":[]}})"),
+    c.push_back({ "empty cut",
+        json_frame(R"({"jsonrpc":"2.0","id":16,"method":"cut","params":{"triangles":[]}})"),
         ErrorCode::InvalidParams, "/params/triangles" });
     {
         std::string tris;
@@ -94,26 +114,40 @@ std::vector<Case> cases() {
             tris += std::string(k ? "," : "") + "[[0,0.003,0.03],[0.01,0.003,0.03],[0,0.003,0.01]]";
         }
         c.push_back({ "too many triangles",
-            json_frame(R"({"jsonrpc":"2.0","id":17,"method":"cut","params":{"triangles":[)" + tris + "]}}"),
+            json_frame(R"({"jsonrpc":"2.0","id":17,"method":"cut","params":{"triangles":[)" + tris
+                + "]}}"),
             ErrorCode::PayloadTooLarge, "/params/triangles" });
     }
-    c.push_back({ "scene path", json_frame(R"({"jsonrpc":"2.0","id":18,"method":"load_scene","params":{"name":"../../etc/passwd"}})"),
+    c.push_back({ "scene path",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":18,"method":"load_scene","params":{"name":"../../etc/passwd"}})"),
         ErrorCode::InvalidParams, "/params/name" });
-    c.push_back({ "unknown scene", json_frame(R"({"jsonrpc":"2.0","id":19,"method":"load_scene","params":{"name":"nope"}})"),
+    c.push_back({ "unknown scene",
+        json_frame(R"({"jsonrpc":"2.0","id":19,"method":"load_scene","params":{"name":"nope"}})"),
         ErrorCode::SceneError, "/params/name" });
-    c.push_back({ "invalid inline scene", json_frame(R"({"jsonrpc":"2.0","id":20,"method":"load_scene","params":{"scene":{"name":"x","geometry":{"type":"box","size":[0.1,0.1,-1]}}}})"),
+    c.push_back({ "invalid inline scene",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":20,"method":"load_scene","params":{"scene":{"name":"x","geometry":{"type":"box","size":[0.1,0.1,-1]}}}})"),
         ErrorCode::SceneError, "/params/scene/*" });
-    c.push_back({ "inline scene naming a file outside", json_frame(R"({"jsonrpc":"2.0","id":21,"method":"load_scene","params":{"scene":{"geometry":{"type":"mesh","path":"/etc/passwd"},"method":"tet"}}})"),
+    c.push_back({ "inline scene naming a file outside",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":21,"method":"load_scene","params":{"scene":{"geometry":{"type":"mesh","path":"/etc/passwd"},"method":"tet"}}})"),
         ErrorCode::SceneError, "" });
-    c.push_back({ "blade endpoints coincide", json_frame(R"({"jsonrpc":"2.0","id":22,"method":"scalpel","params":{"stroke":1,"a":[0,0,0.03],"b":[0,0,0.03]}})"),
+    c.push_back({ "blade endpoints coincide",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":22,"method":"scalpel","params":{"stroke":1,"a":[0,0,0.03],"b":[0,0,0.03]}})"),
         ErrorCode::InvalidParams, "/params/b" });
-    c.push_back({ "unknown force", json_frame(R"({"jsonrpc":"2.0","id":23,"method":"remove_force","params":{"id":99}})"),
+    c.push_back({ "unknown force",
+        json_frame(R"({"jsonrpc":"2.0","id":23,"method":"remove_force","params":{"id":99}})"),
         ErrorCode::NotFound, "/params/id" });
-    c.push_back({ "unknown stroke", json_frame(R"({"jsonrpc":"2.0","id":24,"method":"end_stroke","params":{"stroke":5}})"),
+    c.push_back({ "unknown stroke",
+        json_frame(R"({"jsonrpc":"2.0","id":24,"method":"end_stroke","params":{"stroke":5}})"),
         ErrorCode::NotFound, "/params/stroke" });
-    c.push_back({ "step too many ticks", json_frame(R"({"jsonrpc":"2.0","id":25,"method":"step","params":{"ticks":1000000}})"),
+    c.push_back({ "step too many ticks",
+        json_frame(R"({"jsonrpc":"2.0","id":25,"method":"step","params":{"ticks":1000000}})"),
         ErrorCode::InvalidParams, "/params/ticks" });
-    c.push_back({ "rate too high", json_frame(R"({"jsonrpc":"2.0","id":26,"method":"set_rate","params":{"hz":1e6}})"),
+    c.push_back({ "rate too high",
+        json_frame(R"({"jsonrpc":"2.0","id":26,"method":"set_rate","params":{"hz":1e6}})"),
         ErrorCode::InvalidParams, "/params/hz" });
     c.push_back({ "fractional id", json_frame(R"({"jsonrpc":"2.0","id":1.5,"method":"hello"})"),
         ErrorCode::InvalidRequest, "/id" });
@@ -134,7 +168,8 @@ TEST_F(BadInput, EveryKindGetsItsErrorAndLeavesTheStateUnchanged) {
     client.ok<RunState>(StepParams { 3 });
     client.ok<Created>(ApplyForceParams { { 0, 0, 0.02 }, { 0, 0, -0.2 }, 0.01, std::nullopt });
     client.ok<Created>(GrabParams { { 0.01, 0.01, 0.02 }, 300.0, std::nullopt });
-    client.ok<ScalpelResult>(ScalpelParams { 3, { -0.012, -0.007, 0.03 }, { -0.012, -0.007, 0.01 } });
+    client.ok<ScalpelResult>(
+        ScalpelParams { 3, { -0.012, -0.007, 0.03 }, { -0.012, -0.007, 0.01 } });
     client.ok<CutResult>(CutParams { incision(0.003, -0.012, 0.012, 0.008) });
     const Stats before = client.stats();
 
@@ -154,7 +189,8 @@ TEST_F(BadInput, EveryKindGetsItsErrorAndLeavesTheStateUnchanged) {
     // A bad notification is not answered, but counted.
     const auto errors = client.stats().errors;
     send_message(client.socket(),
-        json_frame(R"({"jsonrpc":"2.0","method":"scalpel","params":{"stroke":1,"a":[0,0,0],"b":[0,0,0]}})"));
+        json_frame(
+            R"({"jsonrpc":"2.0","method":"scalpel","params":{"stroke":1,"a":[0,0,0],"b":[0,0,0]}})"));
     const Stats after = client.stats();
     EXPECT_EQ(after.errors, errors + 1);
     EXPECT_EQ(after.state_hash, before.state_hash);
@@ -171,8 +207,8 @@ TEST_F(BadInput, OversizeFrameDisconnectsOnlyThatPeer) {
     const Stats before = client.stats();
     {
         Client big(context, server.control());
-        const auto reply = big.raw(Message { std::string(100 * 1024, ' ') },
-            std::chrono::milliseconds(500));
+        const auto reply
+            = big.raw(Message { std::string(100 * 1024, ' ') }, std::chrono::milliseconds(500));
         EXPECT_FALSE(reply.has_value()); // ZMQ_MAXMSGSIZE: dropped with the connection
     }
     const Stats after = client.stats();
@@ -205,8 +241,8 @@ TEST_F(BadInput, RetriedCutIsAppliedOnce) {
     EXPECT_EQ(again, first);
     EXPECT_EQ(observer.stats().state_hash, after_first.state_hash);
     // A fresh id cuts again.
-    const Reply fresh = reconnected.call(
-        CutParams { incision(0.013, -0.012, 0.012, 0.008) }, {}, RequestId { std::string("cut-2") });
+    const Reply fresh = reconnected.call(CutParams { incision(0.013, -0.012, 0.012, 0.008) }, {},
+        RequestId { std::string("cut-2") });
     ASSERT_TRUE(fresh.ok());
     EXPECT_GT(observer.stats().topology_version, after_first.topology_version);
 }
@@ -222,9 +258,10 @@ TEST_F(BadInput, KilledClientLeavesNothingBehind) {
         zmq::socket_t dying(context, zmq::socket_type::dealer);
         dying.set(zmq::sockopt::linger, 0);
         dying.connect(server.control());
-        const Message cut = encode_request(
-            Request { RequestId { std::int64_t { 1 } }, CutParams { incision(0.003, -0.012, 0.012, 0.008) } },
-            EncodeOptions { true });
+        const Message cut
+            = encode_request(Request { RequestId { std::int64_t { 1 } },
+                                 CutParams { incision(0.003, -0.012, 0.012, 0.008) } },
+                EncodeOptions { true });
         dying.send(zmq::buffer(cut[0]), zmq::send_flags::sndmore);
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
         dying.close();
@@ -232,7 +269,8 @@ TEST_F(BadInput, KilledClientLeavesNothingBehind) {
     {
         // Dies with an open scalpel stroke and a cached reply.
         Client dying(context, server.control());
-        dying.ok<ScalpelResult>(ScalpelParams { 1, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.01 } });
+        dying.ok<ScalpelResult>(
+            ScalpelParams { 1, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.01 } });
         dying.ok<Created>(ApplyForceParams { { 0, 0, 0.02 }, { 0, 0, -0.1 }, 0.01, 0.01 });
         EXPECT_EQ(client.stats().open_strokes, 1u);
     }

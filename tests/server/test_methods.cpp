@@ -146,13 +146,16 @@ TEST_F(Methods, ScalpelStrokeFormsSweepTrianglesAndEndStrokeCloses) {
     Client client(context, server.control());
     const std::uint64_t v0 = client.stats().topology_version;
     // Three blade samples along y = 0: the first opens the stroke, each next adds two triangles.
-    const auto s0 = client.ok<ScalpelResult>(ScalpelParams { 7, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
+    const auto s0 = client.ok<ScalpelResult>(
+        ScalpelParams { 7, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
     EXPECT_EQ(s0.triangles, 0u);
     EXPECT_EQ(client.stats().open_strokes, 1u);
-    const auto s1 = client.ok<ScalpelResult>(ScalpelParams { 7, { 0.0, 0.003, 0.03 }, { 0.0, 0.003, 0.008 } });
+    const auto s1 = client.ok<ScalpelResult>(
+        ScalpelParams { 7, { 0.0, 0.003, 0.03 }, { 0.0, 0.003, 0.008 } });
     EXPECT_EQ(s1.triangles, 2u);
     // The blade did not move: degenerate sweep, skipped.
-    const auto s2 = client.ok<ScalpelResult>(ScalpelParams { 7, { 0.0, 0.003, 0.03 }, { 0.0, 0.003, 0.008 } });
+    const auto s2 = client.ok<ScalpelResult>(
+        ScalpelParams { 7, { 0.0, 0.003, 0.03 }, { 0.0, 0.003, 0.008 } });
     EXPECT_EQ(s2.triangles, 0u);
     client.notify(ScalpelParams { 7, { 0.012, 0.003, 0.03 }, { 0.012, 0.003, 0.008 } });
     const auto end = client.ok<CutResult>(EndStrokeParams { 7 });

@@ -43,7 +43,8 @@ void drive(Client& client, bool paused) {
         ApplyForceParams { { 0, 0, 0.02 }, { 0, 0.1, -0.3 }, 0.01, std::nullopt });
     client.ok<Created>(ApplyForceParams { { 0.01, 0, 0.02 }, { 0.1, 0, 0 }, 0.01, 0.05 });
     pause_or_wait(4);
-    client.ok<CutResult>(CutParams { incision(0.003, -0.012, 0.012, 0.008) }, EncodeOptions { true });
+    client.ok<CutResult>(
+        CutParams { incision(0.003, -0.012, 0.012, 0.008) }, EncodeOptions { true });
     pause_or_wait(3);
     const auto g = client.ok<Created>(GrabParams { { 0.0, 0.005, 0.02 }, 400.0, 0.004 });
     for (int i = 1; i <= 3; ++i) {
@@ -53,8 +54,8 @@ void drive(Client& client, bool paused) {
     client.ok<Ack>(ReleaseParams { g.id });
     client.ok<Ack>(RemoveForceParams { f.id });
     for (int i = 0; i < 4; ++i) {
-        client.notify(ScalpelParams { 9, { -0.012 + 0.008 * i, -0.007, 0.03 },
-            { -0.012 + 0.008 * i, -0.007, 0.012 } });
+        client.notify(ScalpelParams {
+            9, { -0.012 + 0.008 * i, -0.007, 0.03 }, { -0.012 + 0.008 * i, -0.007, 0.012 } });
         pause_or_wait(1);
     }
     client.ok<CutResult>(EndStrokeParams { 9 });

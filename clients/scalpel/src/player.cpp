@@ -3,16 +3,15 @@
 
 #include "polycut/protocol/protocol.hpp"
 
-#include <nlohmann/json.hpp>
-#include <zmq.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 #include <unistd.h>
+#include <zmq.hpp>
 
 namespace polycut::scalpel {
 
@@ -32,7 +31,9 @@ double percentile(std::vector<double> v, double q) {
     return v[lo] + (pos - double(lo)) * (v[hi] - v[lo]);
 }
 
-double round3(double x) { return std::round(x * 1000.0) / 1000.0; }
+double round3(double x) {
+    return std::round(x * 1000.0) / 1000.0;
+}
 
 protocol::Message recv_all(zmq::socket_t& socket) {
     protocol::Message frames;
@@ -98,8 +99,8 @@ public:
 
     /// Reads replies and stream frames for up to `timeout` (returns early on traffic).
     void pump(std::chrono::milliseconds timeout) {
-        zmq::pollitem_t items[] = { { m_control.handle(), 0, ZMQ_POLLIN, 0 },
-            { m_stream.handle(), 0, ZMQ_POLLIN, 0 } };
+        zmq::pollitem_t items[]
+            = { { m_control.handle(), 0, ZMQ_POLLIN, 0 }, { m_stream.handle(), 0, ZMQ_POLLIN, 0 } };
         zmq::poll(items, m_subscribed ? 2 : 1, std::max(timeout, std::chrono::milliseconds(0)));
         if ((items[0].revents & ZMQ_POLLIN) != 0) {
             while (read_reply()) { }
@@ -130,7 +131,8 @@ public:
                     { "p99", round3(percentile(m_latencies, 99)) },
                     { "max", round3(percentile(m_latencies, 100)) } } },
             { "topology_versions_seen",
-                std::vector<std::uint64_t>(m_topology_versions.begin(), m_topology_versions.end()) },
+                std::vector<std::uint64_t>(
+                    m_topology_versions.begin(), m_topology_versions.end()) },
             { "sweep_triangles", m_sweep_triangles },
             { "ticks",
                 { { "first", m_first_tick }, { "last", m_last_tick },
@@ -302,12 +304,14 @@ std::string play(const Script& script, const PlayOptions& options, int& errors_o
     }
     std::map<std::string, std::uint64_t> ids;
     const auto start = Clock::now();
-    auto at = [&](double t) { return start + std::chrono::duration_cast<Clock::duration>(
-                                          std::chrono::duration<double>(t)); };
+    auto at = [&](double t) {
+        return start
+            + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t));
+    };
     for (const Action& action : script.actions) {
         while (Clock::now() < at(action.t)) {
-            session.pump(std::chrono::duration_cast<std::chrono::milliseconds>(
-                at(action.t) - Clock::now()));
+            session.pump(
+                std::chrono::duration_cast<std::chrono::milliseconds>(at(action.t) - Clock::now()));
         }
         protocol::Params params = action.params;
         if (!action.ref.empty()) {
@@ -332,8 +336,7 @@ std::string play(const Script& script, const PlayOptions& options, int& errors_o
         session.pump(
             std::chrono::duration_cast<std::chrono::milliseconds>(at(script.end_t) - Clock::now()));
     }
-    const auto drain_until
-        = Clock::now() + std::chrono::duration<double>(options.reply_timeout_s);
+    const auto drain_until = Clock::now() + std::chrono::duration<double>(options.reply_timeout_s);
     while (session.outstanding() > 0 && Clock::now() < drain_until) {
         session.pump(std::chrono::milliseconds(20));
     }
@@ -344,9 +347,9 @@ std::string play(const Script& script, const PlayOptions& options, int& errors_o
         const auto& s = std::get<protocol::Stats>(std::get<protocol::Result>(stats->outcome));
         server_stats = { { "tick", s.tick }, { "topology_version", s.topology_version },
             { "ticks_over_budget", s.ticks_over_budget },
-            { "worst_tick_ms", round3(s.worst_tick_ms) },
-            { "step_ms_p50", round3(s.step_ms_p50) }, { "step_ms_p99", round3(s.step_ms_p99) },
-            { "triangle_count", s.triangle_count }, { "cell_count", s.cell_count } };
+            { "worst_tick_ms", round3(s.worst_tick_ms) }, { "step_ms_p50", round3(s.step_ms_p50) },
+            { "step_ms_p99", round3(s.step_ms_p99) }, { "triangle_count", s.triangle_count },
+            { "cell_count", s.cell_count } };
     }
     if (options.shutdown_after) {
         const auto shutdown_id = session.send(protocol::ShutdownParams {});

@@ -1,12 +1,11 @@
 // Scalpel script parsing and expansion into timed requests (see script.hpp).
 #include "script.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace polycut::scalpel {
@@ -261,8 +260,9 @@ struct Parser {
         } else if (e.contains("wait")) {
             script.end_t = std::max(script.end_t, t);
         } else {
-            fail(p, "unknown event (expected load_scene, reset, set_rate, stroke, cut, "
-                    "apply_force, remove_force, grab, move_grab, release or wait)");
+            fail(p,
+                "unknown event (expected load_scene, reset, set_rate, stroke, cut, "
+                "apply_force, remove_force, grab, move_grab, release or wait)");
         }
     }
 };
