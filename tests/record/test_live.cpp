@@ -1,6 +1,7 @@
 // polycut-record (live) and polycut-bench against a real polycut-server subprocess on ephemeral
 // loopback ports: frame counts of PNG and mp4 recordings, the snapshot path of a paused server,
 // and the benchmark's JSON keys and histogram.
+#include "ffmpeg_pipe.hpp"
 #include "polycut/render/image.hpp"
 #include "subprocess.hpp"
 #include "test_support.hpp"

@@ -34,13 +34,14 @@ std::string record_usage() {
     return "usage: polycut-record [--server EP] [--stream EP] [--every K] [--frames N | --seconds "
            "S]\n"
            "                      (--png-dir DIR | --mp4 FILE) [--size WxH] [--msaa N] [--fps F]\n"
-           "                      [--stills DIR] [--still-every N] [--quiet]\n"
+           "                      [--stills DIR] [--still-every N] [--timeout S] [--quiet]\n"
            "       polycut-record --offline SCENE.json [--commands LOG] [--scene-dir DIR]\n"
            "                      [--every K] [--frames N] (--png-dir DIR | --mp4 FILE) ...\n"
            "Live: subscribes to a running polycut-server and renders every K-th stream frame\n"
            "until N frames, S seconds or Ctrl-C. Offline: replays a command log written by\n"
            "polycut-server --record-commands and renders every K-th tick, deterministically.\n"
-           "defaults: --server tcp://127.0.0.1:5555 --size 640x480 --msaa 4 --every 1\n"
+           "defaults: --server tcp://127.0.0.1:5555 --size 640x480 --msaa 4 --every 1 --timeout "
+           "10\n"
            "          --fps = tick rate / K (live: from hello; offline: 1 / (scene dt))\n";
 }
 
@@ -100,6 +101,11 @@ RecordCommand parse_record_command(const std::vector<std::string>& args) {
             command.render.stills_dir = v;
         } else if (a == "--still-every") {
             command.render.still_every = to_count(a, v, 1);
+        } else if (a == "--timeout") {
+            command.live.reply_timeout_s = to_number(a, v);
+            if (command.live.reply_timeout_s <= 0) {
+                throw InputError(a, "must be > 0");
+            }
         } else if (a == "--offline") {
             command.offline = true;
             command.offline_options.scene_file = v;
