@@ -364,6 +364,7 @@ protocol::Expected<sim::CutSummary, RpcError> Session::run_cut(
     const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer) {
     try {
         sim::CutSummary summary = m_sim->cut(triangles);
+        m_cut_ms += summary.cut_ms;
         m_cells = static_cast<std::uint32_t>(summary.cells_after);
         return summary;
     } catch (const InputError& e) {

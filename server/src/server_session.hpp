@@ -67,6 +67,12 @@ public:
     /// Applies the queued scalpel sweep triangles now (end_stroke, step). Never throws; returns
     /// the sim's reason when it rejected them (nothing changed then), empty on success.
     std::string flush_sweeps();
+    /// Wall time of the cuts applied since the last call [ms] (resets it).
+    double take_cut_ms() {
+        const double ms = m_cut_ms;
+        m_cut_ms = 0.0;
+        return ms;
+    }
     /// Scalpel sweep triangles waiting for the next tick.
     std::size_t pending_sweep_triangles() const { return m_pending_sweep.size(); }
 
@@ -138,6 +144,7 @@ private:
     /// one cut per tick however fast the blade samples arrive, so a slow cut cannot queue up
     /// one cut per sample behind it.
     std::vector<std::array<Vec3, 3>> m_pending_sweep;
+    double m_cut_ms = 0.0; ///< cut time since take_cut_ms [ms]
 };
 
 } // namespace polycut::server

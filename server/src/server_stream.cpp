@@ -49,9 +49,9 @@ void Server::Impl::publish_surface(const sim::StepReport& report, bool force_top
     last_header = std::move(h);
 
     if (topology && !force_topology) {
-        nlohmann::json detail
-            = { { "topology_version", version }, { "triangle_count", last_header.triangle_count },
-                  { "vertex_count", last_header.vertex_count } };
+        nlohmann::json detail = { { "topology_version", version },
+            { "triangle_count", last_header.triangle_count },
+            { "vertex_count", last_header.vertex_count }, { "cut_ms", session.take_cut_ms() } };
         if (last_cut_id) {
             detail["request"] = nlohmann::json::parse(protocol::to_json_text(*last_cut_id));
         }

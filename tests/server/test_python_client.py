@@ -57,7 +57,9 @@ def main():
                 assert cut["triangles"] == 2 and cut["topology_version"] > loaded["topology_version"], cut
                 again = c.cut(tris, id="py-cut-1")  # a retry: answered from the cache
                 assert again == cut, (again, cut)
-                mirror.update(timeout_ms=300)
+                # Follow the stream until the frame that reflects the cut (its reply's tick).
+                while mirror.header["tick"] < cut["tick"]:
+                    assert mirror.update(timeout_ms=2000) > 0, "stream stalled"
                 paused = c.call("pause")
                 while mirror.header["tick"] < paused["tick"]:
                     assert mirror.update(timeout_ms=2000) > 0, "stream stalled"
@@ -65,7 +67,7 @@ def main():
                 assert mirror.header["seq"] == header["seq"], (mirror.header["seq"], header["seq"])
                 assert np.array_equal(mirror.positions, positions)
                 assert np.array_equal(mirror.triangles, triangles)
-                assert np.count_nonzero(tags == 2) > 0, "no cut-surface triangles"
+                assert np.count_nonzero(tags == 2) > 0, ("no cut-surface triangles", header, cut, loaded, paused)
                 try:
                     c.call("grab", point=[0, 0], stiffness=100.0)
                     raise AssertionError("a 2-vector point was accepted")

@@ -127,6 +127,8 @@ TEST_F(Stream, CutPublishesNewTopologyAndAnEvent) {
     ASSERT_NE(e, nullptr);
     EXPECT_EQ(e->kind, "topology");
     EXPECT_EQ(e->seq, frame->header.seq);
+    EXPECT_NE(e->detail_json.find("\"cut_ms\""), std::string::npos) << e->detail_json;
+    EXPECT_NE(e->detail_json.find("\"request\":\"cut-1\""), std::string::npos) << e->detail_json;
     // The frame after carries positions only.
     client.ok<RunState>(StepParams { 1 });
     auto after = next_surface(sub);
