@@ -190,11 +190,11 @@ namespace {
             f(arr[i], r.child(key) + "/" + std::to_string(i));
     }
 
-    Cutting parse_cutting(const json& j, const std::string& ptr)
+    Cutting parse_cutting(const json& j, const std::string& ptr, const std::string& default_method)
     {
         ObjectReader r(j, ptr);
         Cutting c;
-        c.method = r.choice("method", c.method, { "split", "snap" });
+        c.method = r.choice("method", default_method, { "split", "snap" });
         c.snap_distance = r.number("snap_distance", c.snap_distance, 0, 0.5);
         c.sliver_volume = r.number("sliver_volume", c.sliver_volume, 0, 0.5);
         for_each_item(r, "sweeps", [&](const json& item, const std::string& p) {
@@ -324,8 +324,13 @@ Scene parse_scene(const std::string& text, const std::string& directory)
         });
         l.finish();
     }
+    // DESIGN.md sec. 1: tets cut by face snapping (002), polyhedral methods by cell splitting
+    // (000); a scene may override, except that snapping needs a pure tet mesh.
+    s.cutting.method = s.method == "tet" ? "snap" : "split";
     if (r.has("cutting"))
-        s.cutting = parse_cutting(r.get("cutting"), r.child("cutting"));
+        s.cutting = parse_cutting(r.get("cutting"), r.child("cutting"), s.cutting.method);
+    if (s.cutting.method == "snap" && s.method != "tet")
+        throw SceneError("/cutting/method", "\"snap\" (face snapping, seed 002) needs method \"tet\"");
     if (r.has("camera"))
         s.camera = parse_camera(r.get("camera"), r.child("camera"));
     if (r.has("output")) {
