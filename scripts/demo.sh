@@ -1,20 +1,29 @@
 #!/usr/bin/env bash
 # The main job of `./polycut demo` (called after set-up and the release build).
-# Starts polycut-server on the default scene (loopback, ephemeral ports), plays the straight
-# incision and the retraction with polycut-scalpel, prints both JSON summaries, and shuts the
-# server down (`shutdown`, then SIGTERM/SIGKILL if it does not stop in time).
+# Starts polycut-server on the default scene (loopback, ephemeral ports), records the session with
+# polycut-record (out/demo.mp4 and PNG stills in out/stills/) while polycut-scalpel plays the
+# straight incision and the retraction (both JSON summaries printed), runs polycut-bench briefly
+# and prints its latency summary (out/bench.json, out/bench.png), and shuts the server down
+# (`shutdown`, then SIGTERM/SIGKILL if it does not stop in time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=${POLYCUT_BIN:-build/release}
 SERVER="$BIN/server/polycut-server"
 SCALPEL="$BIN/clients/polycut-scalpel"
-for exe in "$SERVER" "$SCALPEL"; do
+RECORD="$BIN/clients/record/polycut-record"
+BENCH="$BIN/clients/bench/polycut-bench"
+OUT=${POLYCUT_OUT:-out}
+for exe in "$SERVER" "$SCALPEL" "$RECORD" "$BENCH"; do
   [ -x "$exe" ] || { echo "polycut demo: $exe is missing (build first)" >&2; exit 1; }
 done
 
 work=$(mktemp -d)
 server_pid=""
+record_pid=""
 cleanup() {
+  if [ -n "$record_pid" ] && kill -0 "$record_pid" 2>/dev/null; then
+    kill -INT "$record_pid" 2>/dev/null || true
+  fi
   if [ -n "$server_pid" ] && kill -0 "$server_pid" 2>/dev/null; then
     kill -TERM "$server_pid" 2>/dev/null || true
     sleep 1
@@ -40,11 +49,35 @@ done
 control=$(sed -n 's/.*"control":"\([^"]*\)".*/\1/p' "$work/ready.json")
 echo "polycut demo: server ready, control $control" >&2
 
+mkdir -p "$OUT"
+rm -rf "$OUT/stills" "$OUT/demo.mp4"
+echo "polycut demo: recording the session to $OUT/demo.mp4 (polycut-record, 30 fps)" >&2
+"$RECORD" --server "$control" --every 2 --mp4 "$OUT/demo.mp4" --stills "$OUT/stills" \
+  --still-every 45 --quiet >"$work/record.json" 2>"$work/record.log" &
+record_pid=$!
+sleep 1 # let the recorder subscribe and take its snapshot: the video starts uncut
+
 status=0
 for script in straight_incision retraction; do
   echo "polycut demo: playing assets/scripts/$script.json" >&2
   "$SCALPEL" --server "$control" "assets/scripts/$script.json" || status=1
 done
+sleep 1 # a last second of the opened incision
+
+echo "polycut demo: stopping the recorder (it renders what it has queued, then closes the mp4)" >&2
+kill -INT "$record_pid" 2>/dev/null || true
+if wait "$record_pid"; then
+  echo "polycut demo: recorder: $(cat "$work/record.json")" >&2
+else
+  echo "polycut demo: the recorder failed:" >&2
+  cat "$work/record.log" >&2
+  status=1
+fi
+record_pid=""
+
+echo "polycut demo: latency benchmark (polycut-bench, 5 s, apply_force at 20 Hz)" >&2
+"$BENCH" --server "$control" --duration 5 --rate 20 --json "$OUT/bench.json" \
+  --histogram "$OUT/bench.png" >/dev/null || status=1
 
 echo "polycut demo: shutting the server down" >&2
 "$SCALPEL" --server "$control" --shutdown >/dev/null || true
@@ -62,4 +95,20 @@ echo "polycut demo: server log (last lines):" >&2
 tail -n 4 "$work/server.log" >&2
 echo "polycut demo: $(grep -c '"request"' "$work/commands.jsonl") commands recorded; replay:" >&2
 "$SERVER" --replay "$work/commands.jsonl" --scene-dir assets/scenes >&2 || status=1
+cp "$work/commands.jsonl" "$OUT/commands.jsonl"
+# The same session re-rendered offline from the command log: every tick, at simulation time,
+# however slowly the live server ran (docs/recording.md "Offline recording").
+echo "polycut demo: re-rendering the session offline from its command log ($OUT/demo_replay.mp4)" >&2
+"$RECORD" --offline assets/scenes/default.json --commands "$OUT/commands.jsonl" \
+  --scene-dir assets/scenes --every 2 --mp4 "$OUT/demo_replay.mp4" >"$work/replay.json" || status=1
+frames=$(sed -n 's/.*"frames":\([0-9]*\).*/\1/p' "$work/record.json" 2>/dev/null || true)
+echo "" >&2
+if [ -s "$OUT/demo.mp4" ]; then
+  echo "polycut demo: the video is $OUT/demo.mp4 (${frames:-?} frames at 30 fps); stills in $OUT/stills/;" >&2
+  echo "              the offline replay is $OUT/demo_replay.mp4 (every tick of the command log);" >&2
+  echo "              latency report $OUT/bench.json, histogram $OUT/bench.png" >&2
+else
+  echo "polycut demo: no video was written (see the recorder's messages above)" >&2
+  status=1
+fi
 exit $status

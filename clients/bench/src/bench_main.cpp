@@ -22,7 +22,9 @@ extern "C" void on_signal(int) {
 const char* kUsage
     = "usage: polycut-bench [--server EP] [--stream EP] [--duration S] [--rate HZ]\n"
       "                     [--rtt-rate HZ] [--subscribers N] [--command apply_force|scalpel|cut]\n"
-      "                     [--scene NAME] [--json OUT] [--histogram OUT.png] [--warmup S]\n"
+      "                     [--scene NAME] [--json OUT] [--histogram OUT.png] [--warmup S] "
+      "[--quiet]\n"
+      "Prints the JSON report on stdout and a short summary on stderr (not with --quiet).\n"
       "Measures control round trips (get_stats), command-to-visible latency (command sent ->\n"
       "first stream frame listing it in `applied`) and the server's tick times, under load.\n"
       "defaults: --server tcp://127.0.0.1:5555 --duration 10 --rate 20 --rtt-rate 20\n"
@@ -44,11 +46,16 @@ int main(int argc, char** argv) {
     try {
         ProbeOptions options;
         std::string json_path, histogram_path;
+        bool quiet = false;
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
             if (a == "--help" || a == "-h") {
                 std::cout << kUsage;
                 return 0;
+            }
+            if (a == "--quiet") {
+                quiet = true;
+                continue;
             }
             if (i + 1 >= argc) {
                 throw polycut::InputError(a, "unknown option or missing value");
@@ -93,6 +100,9 @@ int main(int argc, char** argv) {
         const ProbeResult result = run_probe(options, g_stop);
         const std::string report = report_json(options, result);
         std::cout << report << std::endl;
+        if (!quiet) {
+            std::fprintf(stderr, "%s", report_text(result).c_str());
+        }
         if (!json_path.empty()) {
             std::ofstream out(json_path);
             out << report << '\n';

@@ -2,6 +2,7 @@
 #include "bench_report.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sys/utsname.h>
@@ -88,6 +89,25 @@ std::string report_json(const ProbeOptions& options, const ProbeResult& r) {
         { "not_visible", r.commands_sent - r.commands_visible - r.command_errors } };
     out["wall_s"] = round3(r.wall_s);
     return out.dump();
+}
+
+std::string report_text(const ProbeResult& r) {
+    const Summary visible = summarize(r.visible_ms);
+    const Summary ticks = summarize(r.visible_ticks);
+    const Summary rtt = summarize(r.control_rtt_ms);
+    const Summary step = summarize(r.step_ms);
+    char text[1024];
+    std::snprintf(text, sizeof text,
+        "command to visible: p50 %.1f ms, p99 %.1f ms, max %.1f ms (p50 %.0f, max %.0f ticks at "
+        "%.0f Hz; %ld of %ld commands seen)\n"
+        "control round trip: p50 %.2f ms, p99 %.2f ms\n"
+        "server step:        p50 %.2f ms, p99 %.2f ms; %llu of %lld ticks over the %.1f ms "
+        "budget\n",
+        visible.median, visible.p99, visible.max, ticks.median, ticks.max, r.rate_hz,
+        r.commands_visible, r.commands_sent, rtt.median, rtt.p99, step.median, step.p99,
+        static_cast<unsigned long long>(r.ticks_over_budget), static_cast<long long>(r.ticks),
+        r.rate_hz > 0 ? 1000.0 / r.rate_hz : 0.0);
+    return text;
 }
 
 std::vector<HistogramPanel> report_panels(const ProbeResult& r) {

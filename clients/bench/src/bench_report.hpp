@@ -17,6 +17,9 @@ std::string machine_json();
 /// {"count", "p50", "p95", "p99", "max", "mean"}.
 std::string report_json(const ProbeOptions& options, const ProbeResult& result);
 
+/// A few human-readable lines: command to visible, control round trip, server step and overruns.
+std::string report_text(const ProbeResult& result);
+
 /// The histogram panels: command to visible, control round trip, server step time.
 std::vector<HistogramPanel> report_panels(const ProbeResult& result);
 

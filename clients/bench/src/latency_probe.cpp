@@ -131,7 +131,8 @@ public:
         const auto command_period = std::chrono::duration<double>(1.0 / m_options.command_rate_hz);
         const auto rtt_period = std::chrono::duration<double>(1.0 / m_options.rtt_rate_hz);
         auto next_command = t0;
-        Clock::time_point next_rtt = t0 + std::chrono::duration_cast<Clock::duration>(rtt_period / 2);
+        Clock::time_point next_rtt
+            = t0 + std::chrono::duration_cast<Clock::duration>(rtt_period / 2);
         while (Clock::now() < end && !m_stop.load()) {
             const auto now = Clock::now();
             if (now >= next_command) {

@@ -60,7 +60,8 @@ void ProgressBar::update(long done) {
 }
 
 void ProgressBar::finish() {
-    if (m_enabled) {
+    // Off a terminal the 100 % line may already be out.
+    if (m_enabled && (m_tty || m_last_decile != 10 || m_done < m_total)) {
         draw(true);
     }
 }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
 
 namespace {
 
@@ -80,6 +81,11 @@ int main(int argc, char** argv) {
         if (command.help) {
             std::cout << polycut::record::record_usage();
             return 0;
+        }
+        // Before any thread (llvmpipe's, the receiver) or ffmpeg starts: they inherit it.
+        if (command.nice > 0 && ::setpriority(PRIO_PROCESS, 0, command.nice) != 0) {
+            std::fprintf(
+                stderr, "polycut-record: could not lower the priority (nice %d)\n", command.nice);
         }
         return command.offline ? run_offline(command) : run_live(command);
     } catch (const polycut::InputError& e) {

@@ -34,7 +34,8 @@ std::string record_usage() {
     return "usage: polycut-record [--server EP] [--stream EP] [--every K] [--frames N | --seconds "
            "S]\n"
            "                      (--png-dir DIR | --mp4 FILE) [--size WxH] [--msaa N] [--fps F]\n"
-           "                      [--stills DIR] [--still-every N] [--timeout S] [--quiet]\n"
+           "                      [--stills DIR] [--still-every N] [--timeout S] [--nice N] "
+           "[--quiet]\n"
            "       polycut-record --offline SCENE.json [--commands LOG] [--scene-dir DIR]\n"
            "                      [--every K] [--frames N] (--png-dir DIR | --mp4 FILE) ...\n"
            "Live: subscribes to a running polycut-server and renders every K-th stream frame\n"
@@ -101,6 +102,11 @@ RecordCommand parse_record_command(const std::vector<std::string>& args) {
             command.render.stills_dir = v;
         } else if (a == "--still-every") {
             command.render.still_every = to_count(a, v, 1);
+        } else if (a == "--nice") {
+            command.nice = static_cast<int>(to_count(a, v, 0));
+            if (command.nice > 19) {
+                throw InputError(a, "must be in [0, 19]");
+            }
         } else if (a == "--timeout") {
             command.live.reply_timeout_s = to_number(a, v);
             if (command.live.reply_timeout_s <= 0) {

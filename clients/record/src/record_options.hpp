@@ -22,6 +22,9 @@ struct RecordCommand {
     std::string mp4; ///< --mp4
     std::optional<double> fps; ///< --fps: video frame rate override [1/s]
     bool quiet = false; ///< no progress bar or info lines
+    /// Scheduling niceness for the recorder and its ffmpeg (0..19): live recordings yield the
+    /// CPU to the server's tick on a small machine (docs/perf.md "Recording overhead").
+    int nice = 10;
 };
 
 /// Usage text.
