@@ -207,10 +207,11 @@ TEST(Rollback, NaNForceIsRejectedAndStateUnchanged)
 TEST(Solvers, CholmodAndPcgVariantsAgree)
 {
     Beam s = beam(false, soft());
-    MatX3 results[4];
+    MatX3 results[5];
     int k = 0;
     for (LinearSolverKind kind : { LinearSolverKind::Cholmod, LinearSolverKind::PcgJacobi,
-             LinearSolverKind::PcgBlockJacobi, LinearSolverKind::PcgLagged }) {
+             LinearSolverKind::PcgBlockJacobi, LinearSolverKind::PcgLagged,
+             LinearSolverKind::CgRelaxation }) {
         IntegratorOptions o;
         o.dt = 0.01;
         o.gravity = Vec3(0, 0, -9.81);
@@ -223,7 +224,7 @@ TEST(Solvers, CholmodAndPcgVariantsAgree)
         results[k++] = st.x;
     }
     const double scale = max_diff(results[0], Integrator(*s.model, {}).rest_state().x);
-    for (int i = 1; i < 4; ++i)
+    for (int i = 1; i < 5; ++i)
         EXPECT_LT(max_diff(results[i], results[0]), 1e-7 * scale) << "solver " << i;
 }
 

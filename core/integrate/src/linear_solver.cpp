@@ -57,6 +57,23 @@ LinearSolveResult LinearSolver::solve(const solve::SparseMatrix& A, const solve:
         }
         return r;
     }
+    if (m_options.kind == LinearSolverKind::CgRelaxation) {
+        // 002 sec. 3.1: CG on K u = f with only products K d; the fixed DOFs are already
+        // eliminated from the reduced system, so no residual entry needs zeroing here.
+        if (x.size() != b.size() || !x.allFinite())
+            x = solve::Vector::Zero(b.size());
+        m_no_fixed.assign(std::size_t(b.size()), false);
+        const auto apply = [&A](const solve::Vector& d, solve::Vector& Ad) { Ad.noalias() = A * d; };
+        const solve::RelaxationResult rr = m_relaxation.relax(
+            apply, b, m_no_fixed, x, m_options.relative_tolerance, m_options.max_iterations);
+        r.iterations = rr.iterations;
+        r.relative_residual = rr.relative_residual;
+        r.status = !x.allFinite()   ? solve::SolveStatus::NonFinite
+            : rr.breakdown        ? solve::SolveStatus::NotPositiveDefinite
+            : rr.converged        ? solve::SolveStatus::Ok
+                                  : solve::SolveStatus::NotConverged;
+        return r;
+    }
     const solve::PcgResult p = m_pcg.solve(A, b, x);
     r.status = p.status;
     r.iterations = p.iterations;

@@ -122,7 +122,7 @@ namespace {
     {
         ObjectReader r(j, ptr);
         Solver s;
-        s.type = r.choice("type", s.type, { "cholmod", "pcg" });
+        s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
         s.preconditioner = r.choice(
             "preconditioner", s.preconditioner, { "jacobi", "block_jacobi", "lagged_cholesky" });
         s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);

@@ -142,6 +142,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s)
     o.gravity = s.loads.gravity;
     const auto& sv = s.solver;
     o.solver.kind = sv.type == "cholmod"        ? integrate::LinearSolverKind::Cholmod
+        : sv.type == "cg_relaxation"             ? integrate::LinearSolverKind::CgRelaxation
         : sv.preconditioner == "block_jacobi"    ? integrate::LinearSolverKind::PcgBlockJacobi
         : sv.preconditioner == "lagged_cholesky" ? integrate::LinearSolverKind::PcgLagged
                                                  : integrate::LinearSolverKind::PcgJacobi;

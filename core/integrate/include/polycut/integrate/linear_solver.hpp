@@ -3,6 +3,7 @@
 
 #include "polycut/integrate/options.hpp"
 #include "polycut/solve/cholmod_solver.hpp"
+#include "polycut/solve/cg_relaxation.hpp"
 #include "polycut/solve/pcg.hpp"
 
 namespace polycut::integrate {
@@ -27,6 +28,8 @@ private:
     SolverOptions m_options;
     solve::CholmodSolver m_cholmod;
     solve::PcgSolver m_pcg;
+    solve::CgRelaxation m_relaxation;
+    std::vector<bool> m_no_fixed; ///< the reduced system has no fixed DOFs left
 };
 
 } // namespace polycut::integrate

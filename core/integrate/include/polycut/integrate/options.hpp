@@ -31,6 +31,9 @@ enum class LinearSolverKind {
     PcgBlockJacobi, ///< PCG, 3x3 block-Jacobi preconditioner, warm-started
     PcgLagged,      ///< PCG preconditioned by a lagged CHOLMOD factor
     PcgIncompleteCholesky, ///< PCG preconditioned by a lagged incomplete Cholesky factor
+    /// Unpreconditioned CG relaxation of seed 002 sec. 3.1 (fixed DOFs eliminated; stops at
+    /// ||r|| < tol ||b||), warm-started; the solver Nienhuys' static cutting simulator used.
+    CgRelaxation,
 };
 
 /// Linear solver settings.

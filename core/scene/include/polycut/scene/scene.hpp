@@ -61,7 +61,7 @@ struct Integrator {
 };
 
 struct Solver {
-    std::string type = "pcg";                ///< "cholmod" or "pcg"
+    std::string type = "pcg";                ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
     std::string preconditioner = "jacobi";   ///< pcg: "jacobi", "block_jacobi", "lagged_cholesky"
     double tolerance = 1e-6;                 ///< relative residual
     int max_iterations = 2000;
