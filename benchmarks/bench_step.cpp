@@ -1,13 +1,15 @@
-// Corotated implicit Euler step on the Kuhn tet boxes of issue 3 item 6 (assets/scenes/bench_box*.json,
-// built here programmatically the same way): a 0.1 m cube of n^3 blocks x 6 Kuhn tets, x = 0
-// fixed, gravity, E = 10 kPa, nu = 0.45, rho = 1000, beta = 0.01, dt = 0.01.
+// Corotated implicit Euler step on the Kuhn tet boxes of issue 3 item 6
+// (assets/scenes/bench_box*.json, built here programmatically the same way): a 0.1 m cube of n^3
+// blocks x 6 Kuhn tets, x = 0 fixed, gravity, E = 10 kPa, nu = 0.45, rho = 1000, beta = 0.01, dt =
+// 0.01.
 //
 //   Step/box<n>/<method>/tol<t>: 10 warm-up steps from rest, then 50 timed steps. Counters:
 //     med_ms, p99_ms   process CPU time per step (all threads: a background factorization counts)
 //     wall_med_ms      wall time per step (pessimistic on a loaded machine)
 //     its              median PCG iterations per step
 //     asm_ms, slv_ms   median of the step report's assembly / solve wall times
-//     err              || x_50 - x_50,ref || / || x_50,ref - X || after 50 steps from rest, with the
+//     err              || x_50 - x_50,ref || / || x_50,ref - X || after 50 steps from rest, with
+//     the
 //                      reference from a tightly converged run (PCG + lagged CHOLMOD to 1e-12,
 //                      cached in bench_step_ref_<n>.bin in the working directory)
 //   Assemble/box<n>, SpMV/box<n>, Precond/box<n>/<kind>: the parts of a step, at the state after
@@ -21,9 +23,8 @@
 #include "polycut/solve/cholmod_solver.hpp"
 #include "polycut/solve/pcg.hpp"
 
-#include <benchmark/benchmark.h>
-
 #include <Eigen/Cholesky>
+#include <benchmark/benchmark.h>
 #include <ctime>
 #include <fstream>
 #include <map>
@@ -40,21 +41,20 @@ constexpr int kWarmup = 10;
 constexpr int kTimed = 50;
 constexpr int kAccuracyStep = 50;
 
-double process_cpu_ms()
-{
+double process_cpu_ms() {
     timespec t {};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
 }
 
-/// One benchmark box: the mesh and a model over it (both on the heap: the model points at the mesh).
+/// One benchmark box: the mesh and a model over it (both on the heap: the model points at the
+/// mesh).
 struct Box {
     std::unique_ptr<mesh::Mesh> mesh;
     std::unique_ptr<elasticity::ElasticModel> model;
 };
 
-elasticity::Material box_material()
-{
+elasticity::Material box_material() {
     elasticity::Material m;
     m.youngs_modulus = 1e4;
     m.poisson_ratio = 0.45;
@@ -63,8 +63,7 @@ elasticity::Material box_material()
     return m;
 }
 
-Box make_box(int n)
-{
+Box make_box(int n) {
     Box b;
     mesh::BoxGrid g;
     g.lo = Vec3::Zero();
@@ -79,8 +78,7 @@ Box make_box(int n)
     return b;
 }
 
-IntegratorOptions step_options(const SolverOptions& solver)
-{
+IntegratorOptions step_options(const SolverOptions& solver) {
     IntegratorOptions o;
     o.kind = IntegratorKind::ImplicitEuler;
     o.dt = 0.01;
@@ -96,8 +94,7 @@ struct Method {
     SolverOptions options;
 };
 
-std::vector<Method> methods(double tol)
-{
+std::vector<Method> methods(double tol) {
     std::vector<Method> list;
     auto add = [&](std::string name, LinearSolverKind kind) {
         SolverOptions s;
@@ -115,8 +112,7 @@ std::vector<Method> methods(double tol)
 }
 
 /// Displacement after kAccuracyStep steps from rest of a tightly converged run, cached on disk.
-const MatX3& reference(int n)
-{
+const MatX3& reference(int n) {
     static std::map<int, MatX3> cache;
     if (auto it = cache.find(n); it != cache.end())
         return it->second;
@@ -124,7 +120,9 @@ const MatX3& reference(int n)
     Box b = make_box(n);
     MatX3 x(b.model->num_nodes(), 3);
     std::ifstream in(path, std::ios::binary);
-    if (in && in.read(reinterpret_cast<char*>(x.data()), std::streamsize(sizeof(double) * std::size_t(x.size()))))
+    if (in
+        && in.read(reinterpret_cast<char*>(x.data()),
+            std::streamsize(sizeof(double) * std::size_t(x.size()))))
         return cache[n] = x;
     SolverOptions s;
     s.kind = LinearSolverKind::PcgLagged;
@@ -136,20 +134,19 @@ const MatX3& reference(int n)
     for (int k = 0; k < kAccuracyStep; ++k)
         integ.step(st);
     std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(st.x.data()), std::streamsize(sizeof(double) * std::size_t(st.x.size())));
+    out.write(reinterpret_cast<const char*>(st.x.data()),
+        std::streamsize(sizeof(double) * std::size_t(st.x.size())));
     return cache[n] = st.x;
 }
 
-double relative_error(const Box& b, const MatX3& x, const MatX3& ref)
-{
+double relative_error(const Box& b, const MatX3& x, const MatX3& ref) {
     MatX3 u_ref = ref;
     for (Index i = 0; i < u_ref.rows(); ++i)
         u_ref.row(i) -= b.mesh->rest[std::size_t(i)].transpose();
     return (x - ref).norm() / u_ref.norm();
 }
 
-void run_steps(benchmark::State& state, int n, SolverOptions solver, bool extrapolate)
-{
+void run_steps(benchmark::State& state, int n, SolverOptions solver, bool extrapolate) {
     Box b = make_box(n);
     const MatX3& ref = reference(n);
     IntegratorOptions options = step_options(solver);
@@ -198,8 +195,7 @@ struct Snapshot {
     VecX b;
 };
 
-const Snapshot& snapshot(int n)
-{
+const Snapshot& snapshot(int n) {
     static std::map<int, std::unique_ptr<Snapshot>> cache;
     auto& slot = cache[n];
     if (slot)
@@ -228,8 +224,7 @@ const Snapshot& snapshot(int n)
     return s;
 }
 
-void assemble_bench(benchmark::State& state, int n)
-{
+void assemble_bench(benchmark::State& state, int n) {
     const Snapshot& s = snapshot(n);
     Box b = make_box(n);
     solve::SparseMatrix K = b.model->make_matrix();
@@ -243,8 +238,7 @@ void assemble_bench(benchmark::State& state, int n)
         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-void spmv_bench(benchmark::State& state, int n)
-{
+void spmv_bench(benchmark::State& state, int n) {
     const Snapshot& s = snapshot(n);
     VecX y;
     for (auto _ : state) {
@@ -254,28 +248,26 @@ void spmv_bench(benchmark::State& state, int n)
     // Bytes per SpMV: values + row indices + column pointers + x (read once at best) + y.
     const double bytes = double(s.A.nonZeros()) * 12.0 + double(s.A.rows()) * (4 + 8 + 8);
     state.counters["MB"] = bytes * 1e-6;
-    state.counters["GBps"]
-        = benchmark::Counter(bytes, benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1024);
+    state.counters["GBps"] = benchmark::Counter(
+        bytes, benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1024);
     state.counters["nnz"] = double(s.A.nonZeros());
 }
 
 /// Streaming bandwidth (triad a = b + s c over 3 x 32 MB), for the SpMV floor.
-void triad_bench(benchmark::State& state)
-{
+void triad_bench(benchmark::State& state) {
     const Index m = 4 << 20;
     VecX a = VecX::Zero(m), b = VecX::Ones(m), c = VecX::Ones(m);
     for (auto _ : state) {
         a.noalias() = b + 0.5 * c;
         benchmark::DoNotOptimize(a.data());
     }
-    state.counters["GBps"] = benchmark::Counter(
-        3.0 * 8.0 * double(m), benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1024);
+    state.counters["GBps"] = benchmark::Counter(3.0 * 8.0 * double(m),
+        benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1024);
 }
 
 /// One preconditioned PCG solve from zero on the snapshot's system, fixed iteration count: per
 /// iteration cost of each preconditioner.
-void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p)
-{
+void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p) {
     const Snapshot& s = snapshot(n);
     solve::PcgOptions o;
     o.preconditioner = p;
@@ -291,29 +283,31 @@ void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p
         const solve::PcgResult r = pcg.solve(s.A, s.b, x);
         iterations += r.iterations;
     }
-    state.counters["ms_per_it"] = benchmark::Counter(double(iterations) * 1e-3,
-        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["ms_per_it"] = benchmark::Counter(
+        double(iterations) * 1e-3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 } // namespace
 
-int main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);
     for (int n : { 12, 20, 30 }) {
         const std::string box = "box" + std::to_string(n);
         benchmark::RegisterBenchmark(("Assemble/" + box).c_str(), assemble_bench, n)
             ->Unit(benchmark::kMillisecond);
-        benchmark::RegisterBenchmark(("SpMV/" + box).c_str(), spmv_bench, n)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("SpMV/" + box).c_str(), spmv_bench, n)
+            ->Unit(benchmark::kMillisecond);
         for (auto [name, p] : { std::pair { "jacobi", solve::Preconditioner::Jacobi },
                  std::pair { "block_jacobi", solve::Preconditioner::BlockJacobi3 },
                  std::pair { "lagged", solve::Preconditioner::LaggedCholesky },
                  std::pair { "ic", solve::Preconditioner::IncompleteCholesky } })
-            benchmark::RegisterBenchmark(("PcgIteration/" + box + "/" + name).c_str(), pcg_iteration_bench, n, p)
+            benchmark::RegisterBenchmark(
+                ("PcgIteration/" + box + "/" + name).c_str(), pcg_iteration_bench, n, p)
                 ->Unit(benchmark::kMillisecond);
         SolverOptions direct;
         direct.kind = LinearSolverKind::Cholmod;
-        benchmark::RegisterBenchmark(("Step/" + box + "/cholmod").c_str(), run_steps, n, direct, false)
+        benchmark::RegisterBenchmark(
+            ("Step/" + box + "/cholmod").c_str(), run_steps, n, direct, false)
             ->Unit(benchmark::kMillisecond)
             ->Iterations(kTimed);
         for (double tol : { 1e-6, 1e-3, 1e-2, 3e-2, 1e-1, 3e-1 }) {
@@ -322,7 +316,8 @@ int main(int argc, char** argv)
             for (const Method& m : methods(tol))
                 for (bool extrapolate : { false, true })
                     benchmark::RegisterBenchmark(
-                        ("Step/" + box + "/" + m.name + (extrapolate ? "+x" : "") + "/tol" + t).c_str(),
+                        ("Step/" + box + "/" + m.name + (extrapolate ? "+x" : "") + "/tol" + t)
+                            .c_str(),
                         run_steps, n, m.options, extrapolate)
                         ->Unit(benchmark::kMillisecond)
                         ->Iterations(kTimed);

@@ -164,8 +164,8 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
             s.stream_dropped = read_uint(*v, m.r.at("stream_dropped"), 0, kU64, kCode);
         }
         if (const json* v = m.r.optional("open_strokes"); v != nullptr) {
-            s.open_strokes = static_cast<std::uint32_t>(
-                read_uint(*v, m.r.at("open_strokes"), 0, kU32, kCode));
+            s.open_strokes
+                = static_cast<std::uint32_t>(read_uint(*v, m.r.at("open_strokes"), 0, kU32, kCode));
         }
         if (const json* v = m.r.optional("cached_replies"); v != nullptr) {
             s.cached_replies = static_cast<std::uint32_t>(

@@ -15,17 +15,15 @@
 
 namespace {
 
-int usage(const char* why)
-{
-    std::fprintf(stderr,
-        "polycut-run: %s\nusage: polycut-run SCENE.json [--steps N] [--vtu DIR]\n", why);
+int usage(const char* why) {
+    std::fprintf(
+        stderr, "polycut-run: %s\nusage: polycut-run SCENE.json [--steps N] [--vtu DIR]\n", why);
     return 2;
 }
 
 } // namespace
 
-int main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
     using namespace polycut;
     std::string scene_path, vtu_dir;
     long steps = -1;
@@ -78,7 +76,8 @@ int main(int argc, char** argv)
         std::stable_sort(sweeps.begin(), sweeps.end(),
             [](const auto& a, const auto& b) { return a.tick < b.tick; });
         for (long s = 0; s < steps || next_sweep < sweeps.size(); ++s) {
-            while (next_sweep < sweeps.size() && (sweeps[next_sweep].tick <= sim.tick() || s >= steps)) {
+            while (next_sweep < sweeps.size()
+                && (sweeps[next_sweep].tick <= sim.tick() || s >= steps)) {
                 const auto cut = sim.cut(sweeps[next_sweep].triangles);
                 rec.has_cuts = true;
                 rec.cut_triangles += long(sweeps[next_sweep].triangles.size());

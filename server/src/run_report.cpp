@@ -4,23 +4,20 @@
 
 namespace polycut::run {
 
-nlohmann::json summary_json(const Summary& s)
-{
+nlohmann::json summary_json(const Summary& s) {
     return { { "count", s.count }, { "mean", s.mean }, { "median", s.median }, { "p90", s.p90 },
         { "p99", s.p99 }, { "max", s.max } };
 }
 
 namespace {
-    nlohmann::json mesh_json(const sim::MeshStats& m)
-    {
-        return { { "nodes", m.nodes }, { "cells", m.cells },
-            { "boundary_triangles", m.boundary_triangles }, { "rest_volume", m.rest_volume },
-            { "components", m.components }, { "surface_closed", m.surface_closed } };
-    }
+nlohmann::json mesh_json(const sim::MeshStats& m) {
+    return { { "nodes", m.nodes }, { "cells", m.cells },
+        { "boundary_triangles", m.boundary_triangles }, { "rest_volume", m.rest_volume },
+        { "components", m.components }, { "surface_closed", m.surface_closed } };
+}
 } // namespace
 
-nlohmann::json to_json(const RunRecord& r)
-{
+nlohmann::json to_json(const RunRecord& r) {
     nlohmann::json j;
     j["scene"] = r.scene;
     j["method"] = r.method;
@@ -37,11 +34,12 @@ nlohmann::json to_json(const RunRecord& r)
         { "max_residual", r.max_residual }, { "rolled_back_steps", r.rolled_back } };
     if (r.has_cuts) {
         const double vb = r.before.rest_volume, va = r.after.rest_volume;
-        j["cut"] = { { "triangles", r.cut_triangles },
-            { "rest_volume_before", vb }, { "rest_volume_after", va },
+        j["cut"] = { { "triangles", r.cut_triangles }, { "rest_volume_before", vb },
+            { "rest_volume_after", va },
             { "rest_volume_relative_change", vb > 0 ? std::abs(va - vb) / vb : 0.0 },
             { "surface_closed", r.after.surface_closed }, { "components", r.after.components },
-            { "max_cut_ms", r.cut_ms.empty() ? 0.0 : *std::max_element(r.cut_ms.begin(), r.cut_ms.end()) },
+            { "max_cut_ms",
+                r.cut_ms.empty() ? 0.0 : *std::max_element(r.cut_ms.begin(), r.cut_ms.end()) },
             { "cut_ms", summary_json(summarize(r.cut_ms)) } };
         j["mesh_after"] = mesh_json(r.after);
     }

@@ -7,34 +7,30 @@
 #include "polycut/mesh/builders.hpp"
 
 #include <gtest/gtest.h>
-
 #include <random>
 
 using namespace polycut;
 using namespace polycut::basis;
 
 namespace {
-std::array<Vec3, 4> some_tet()
-{
+std::array<Vec3, 4> some_tet() {
     return { Vec3(0.1, 0.0, 0.2), Vec3(1.2, 0.1, 0.0), Vec3(0.3, 0.9, 0.1), Vec3(0.2, 0.3, 1.0) };
 }
 
-std::array<Vec3, 8> distorted_hex()
-{
+std::array<Vec3, 8> distorted_hex() {
     std::array<Vec3, 8> X;
     const auto& R = q1_reference_nodes();
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> jitter(-0.15, 0.15);
     for (int i = 0; i < 8; ++i)
-        X[std::size_t(i)] = Vec3(0.5 * (R(i, 0) + 1) * 2.0, 0.5 * (R(i, 1) + 1) * 1.0,
-                                 0.5 * (R(i, 2) + 1) * 1.5)
+        X[std::size_t(i)]
+            = Vec3(0.5 * (R(i, 0) + 1) * 2.0, 0.5 * (R(i, 1) + 1) * 1.0, 0.5 * (R(i, 2) + 1) * 1.5)
             + Vec3(jitter(rng), jitter(rng), jitter(rng));
     return X;
 }
 } // namespace
 
-TEST(P1, GradientsMatchFiniteDifferences)
-{
+TEST(P1, GradientsMatchFiniteDifferences) {
     const auto X = some_tet();
     const auto G = p1_gradients(X);
     const Vec3 p(0.3, 0.25, 0.3);
@@ -48,8 +44,7 @@ TEST(P1, GradientsMatchFiniteDifferences)
     }
 }
 
-TEST(P1, PartitionOfUnityAndVertexInterpolation)
-{
+TEST(P1, PartitionOfUnityAndVertexInterpolation) {
     const auto X = some_tet();
     EXPECT_NEAR(p1_shape(X, Vec3(0.4, 0.2, 0.3)).sum(), 1.0, 1e-14);
     for (int i = 0; i < 4; ++i) {
@@ -66,8 +61,7 @@ TEST(P1, PartitionOfUnityAndVertexInterpolation)
     EXPECT_LT((I - Mat3::Identity()).norm(), 1e-13);
 }
 
-TEST(P1, IntegrationVolumeAndInvertedTet)
-{
+TEST(P1, IntegrationVolumeAndInvertedTet) {
     auto X = some_tet();
     const CellIntegration ci = p1_integration(X);
     const double vol = (X[1] - X[0]).dot((X[2] - X[0]).cross(X[3] - X[0])) / 6.0;
@@ -78,8 +72,7 @@ TEST(P1, IntegrationVolumeAndInvertedTet)
     EXPECT_THROW(p1_integration(X), MeshError);
 }
 
-TEST(Q1, ReferenceGradientsMatchFiniteDifferences)
-{
+TEST(Q1, ReferenceGradientsMatchFiniteDifferences) {
     const Vec3 xi(0.3, -0.4, 0.7);
     const auto D = q1_reference_gradients(xi);
     const double h = 1e-6;
@@ -92,8 +85,7 @@ TEST(Q1, ReferenceGradientsMatchFiniteDifferences)
     }
 }
 
-TEST(Q1, PhysicalGradientsByChainRuleOnDistortedHex)
-{
+TEST(Q1, PhysicalGradientsByChainRuleOnDistortedHex) {
     const auto X = distorted_hex();
     const CellIntegration ci = q1_integration(X, 2);
     ASSERT_EQ(ci.points.size(), 8u);
@@ -116,7 +108,8 @@ TEST(Q1, PhysicalGradientsByChainRuleOnDistortedHex)
             Vec3 d = Vec3::Zero();
             d(a) = h;
             const Eigen::Matrix<double, 8, 1> fd
-                = (q1_shape(invert(ci.points[q] + d)) - q1_shape(invert(ci.points[q] - d))) / (2 * h);
+                = (q1_shape(invert(ci.points[q] + d)) - q1_shape(invert(ci.points[q] - d)))
+                / (2 * h);
             for (int i = 0; i < 8; ++i)
                 EXPECT_NEAR(fd(i), ci.gradients[q](i, a), 1e-7) << "q " << q << " a " << a;
         }
@@ -128,8 +121,7 @@ TEST(Q1, PhysicalGradientsByChainRuleOnDistortedHex)
     }
 }
 
-TEST(Q1, PartitionOfUnityAndVolume)
-{
+TEST(Q1, PartitionOfUnityAndVolume) {
     for (double x : { -1.0, -0.3, 0.5 })
         EXPECT_NEAR(q1_shape(Vec3(x, 0.2, -0.9)).sum(), 1.0, 1e-15);
     // Box [0,2]x[0,1]x[0,1.5]: volume 3, each node gets 3/8.
@@ -153,12 +145,12 @@ TEST(Q1, PartitionOfUnityAndVolume)
     double wd = 0;
     for (double v : cd.weights)
         wd += v;
-    EXPECT_NEAR(wd, m.cell_volume(0), 1e-3 * wd); // faces are non-planar: divergence volume is approximate
+    EXPECT_NEAR(
+        wd, m.cell_volume(0), 1e-3 * wd); // faces are non-planar: divergence volume is approximate
     EXPECT_NEAR(cd.lumped_volume.sum(), wd, 1e-13);
 }
 
-TEST(CellBasis, DispatchesByShape)
-{
+TEST(CellBasis, DispatchesByShape) {
     mesh::BoxGrid g;
     g.cells = { 2, 1, 1 };
     const mesh::Mesh tets = mesh::tet_grid(g);

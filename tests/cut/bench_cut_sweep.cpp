@@ -8,8 +8,7 @@
 
 using namespace polycut;
 
-int main()
-{
+int main() {
     mesh::BoxGrid g;
     g.hi = Vec3::Constant(0.1);
     g.cells = Eigen::Vector3i(20, 20, 20);
@@ -26,8 +25,9 @@ int main()
         ms.push_back(cutter.cut(tris).elapsed_ms / 2);
     }
     const auto s = summarize(ms);
-    std::printf("20^3 hexes: cutter setup %.2f ms; per sweep triangle: median %.3f ms, p90 %.3f ms, "
-                "max %.3f ms over %ld triangle pairs; final %d cells, %d nodes\n",
+    std::printf(
+        "20^3 hexes: cutter setup %.2f ms; per sweep triangle: median %.3f ms, p90 %.3f ms, "
+        "max %.3f ms over %ld triangle pairs; final %d cells, %d nodes\n",
         setup_ms, s.median, s.p90, s.max, s.count, m.num_cells(), m.num_nodes());
     return 0;
 }

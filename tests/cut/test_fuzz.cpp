@@ -5,8 +5,8 @@
 #include "polycut/cut/invariants.hpp"
 #include "polycut/mesh/builders.hpp"
 
-#include <gtest/gtest.h>
 #include <cstdlib>
+#include <gtest/gtest.h>
 #include <iostream>
 #include <map>
 #include <random>
@@ -14,8 +14,7 @@
 using namespace polycut;
 
 namespace {
-mesh::Mesh small_block(bool tets)
-{
+mesh::Mesh small_block(bool tets) {
     mesh::BoxGrid g;
     g.lo = Vec3::Zero();
     g.hi = Vec3::Constant(0.02);
@@ -29,8 +28,7 @@ struct FuzzStats {
     double cut_ms = 0;
 };
 
-FuzzStats fuzz(mesh::Mesh m, unsigned seed, int sweeps, double snap = cut::CutOptions {}.snap)
-{
+FuzzStats fuzz(mesh::Mesh m, unsigned seed, int sweeps, double snap = cut::CutOptions {}.snap) {
     FuzzStats st;
     cut::CutOptions opt;
     opt.snap = snap;
@@ -68,20 +66,24 @@ FuzzStats fuzz(mesh::Mesh m, unsigned seed, int sweeps, double snap = cut::CutOp
             for (Index f : m.boundary_faces()) {
                 const auto& l = m.faces[std::size_t(f)].nodes;
                 for (std::size_t i = 0; i < l.size(); ++i)
-                    edges[{ std::min(l[i], l[(i + 1) % l.size()]), std::max(l[i], l[(i + 1) % l.size()]) }].push_back(f);
+                    edges[{ std::min(l[i], l[(i + 1) % l.size()]),
+                              std::max(l[i], l[(i + 1) % l.size()]) }]
+                        .push_back(f);
             }
             for (const auto& [e, fs] : edges)
                 if (fs.size() != 2) {
                     std::cerr << "edge " << e.first << "-" << e.second << " faces";
                     for (Index f : fs) {
                         const auto& F = m.faces[std::size_t(f)];
-                        std::cerr << "\n  f" << f << " tag " << int(F.tag) << " owner " << F.owner << " parent " << F.parent << " nodes";
+                        std::cerr << "\n  f" << f << " tag " << int(F.tag) << " owner " << F.owner
+                                  << " parent " << F.parent << " nodes";
                         for (Index n : F.nodes)
                             std::cerr << " " << n;
                     }
                     std::cerr << "\n";
                 }
-            std::cerr << "triangle " << t[0].transpose() << " | " << t[1].transpose() << " | " << t[2].transpose() << "\n";
+            std::cerr << "triangle " << t[0].transpose() << " | " << t[1].transpose() << " | "
+                      << t[2].transpose() << "\n";
         }
         EXPECT_TRUE(inv.ok()) << "sweep " << k << ": " << inv.first_problem;
         if (!inv.ok())
@@ -93,8 +95,7 @@ FuzzStats fuzz(mesh::Mesh m, unsigned seed, int sweeps, double snap = cut::CutOp
 }
 } // namespace
 
-void print(const char* what, const FuzzStats& s)
-{
+void print(const char* what, const FuzzStats& s) {
     std::cout << what << ": max volume error " << s.max_volume_error << ", min cell volume ratio "
               << s.min_volume_ratio << ", max convexity violation " << s.max_convexity << ", "
               << s.cells << " cells, " << s.nodes << " nodes, cut time " << s.cut_ms << " ms\n";
@@ -103,8 +104,7 @@ void print(const char* what, const FuzzStats& s)
 // 1,000 random sweeps in 10 episodes of 100 on a fresh 2x2x2 block each (hexes and Kuhn tets
 // alternating), every invariant after each sweep; volume within 1e-6 (snapped nodes leave cut
 // faces off-plane by up to snap * h, and later splits of one side re-triangulate them).
-TEST(CutFuzz, ThousandRandomSweeps)
-{
+TEST(CutFuzz, ThousandRandomSweeps) {
     for (unsigned episode = 0; episode < 10; ++episode) {
         const auto st = fuzz(small_block(episode % 2 == 1), 100 + episode, 100);
         print(episode % 2 ? "tet episode" : "hex episode", st);

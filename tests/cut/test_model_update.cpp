@@ -9,8 +9,7 @@
 
 using namespace polycut;
 
-TEST(ModelUpdate, IncrementalUpdateAfterACutEqualsARebuild)
-{
+TEST(ModelUpdate, IncrementalUpdateAfterACutEqualsARebuild) {
     mesh::BoxGrid g;
     g.hi = Vec3(0.03, 0.03, 0.02);
     g.cells = { 3, 3, 2 };
@@ -42,7 +41,8 @@ TEST(ModelUpdate, IncrementalUpdateAfterACutEqualsARebuild)
     std::uniform_real_distribution<double> jitter(-1e-3, 1e-3);
     MatX3 x(m.num_nodes(), 3);
     for (Index i = 0; i < m.num_nodes(); ++i)
-        x.row(i) = (m.rest[std::size_t(i)] + Vec3(jitter(rng), jitter(rng), jitter(rng))).transpose();
+        x.row(i)
+            = (m.rest[std::size_t(i)] + Vec3(jitter(rng), jitter(rng), jitter(rng))).transpose();
     solve::SparseMatrix K1 = model.make_matrix(), K2 = fresh.make_matrix();
     VecX f1, f2;
     model.assemble(x, elasticity::ForceMode::Corotated, &K1, &f1);

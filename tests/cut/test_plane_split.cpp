@@ -9,8 +9,7 @@
 using namespace polycut;
 
 namespace {
-mesh::Mesh block(int n, double size = 0.1)
-{
+mesh::Mesh block(int n, double size = 0.1) {
     mesh::BoxGrid g;
     g.lo = Vec3::Zero();
     g.hi = Vec3::Constant(size);
@@ -19,8 +18,7 @@ mesh::Mesh block(int n, double size = 0.1)
 }
 } // namespace
 
-TEST(PlaneSplit, SingleHexThroughMiddle)
-{
+TEST(PlaneSplit, SingleHexThroughMiddle) {
     auto m = block(1, 1.0);
     const double v0 = m.rest_volume();
     cut::Cutter cutter(m);
@@ -30,7 +28,8 @@ TEST(PlaneSplit, SingleHexThroughMiddle)
     EXPECT_EQ(r.new_nodes.size(), 4u);
     EXPECT_NEAR(m.cell_volume(0), 0.5, 1e-14);
     EXPECT_NEAR(m.cell_volume(1), 0.5, 1e-14);
-    const auto inv = cut::check_cut_invariants(m, v0, { .convex_tol = 1e-12, .planarity_tol = 1e-12 });
+    const auto inv
+        = cut::check_cut_invariants(m, v0, { .convex_tol = 1e-12, .planarity_tol = 1e-12 });
     EXPECT_TRUE(inv.ok()) << inv.first_problem;
     EXPECT_EQ(m.cells[0].shape, mesh::CellShape::Hex);
     EXPECT_EQ(m.cells[1].shape, mesh::CellShape::Hex);
@@ -43,28 +42,28 @@ TEST(PlaneSplit, SingleHexThroughMiddle)
     }
 }
 
-TEST(PlaneSplit, ObliqueThroughGridKeepsConformity)
-{
+TEST(PlaneSplit, ObliqueThroughGridKeepsConformity) {
     auto m = block(3);
     const double v0 = m.rest_volume();
     cut::Cutter cutter(m);
     const auto r = cutter.split_by_plane(Vec3(0.05, 0.047, 0.052), Vec3(1, 0.7, 0.3));
     EXPECT_GT(r.new_cells.size(), 5u);
-    const auto inv = cut::check_cut_invariants(m, v0, { .convex_tol = 1e-9, .planarity_tol = 1e-9 });
+    const auto inv
+        = cut::check_cut_invariants(m, v0, { .convex_tol = 1e-9, .planarity_tol = 1e-9 });
     EXPECT_TRUE(inv.ok()) << inv.first_problem;
     EXPECT_LT(inv.volume_error, 1e-12);
     EXPECT_EQ(inv.components, 1);
 }
 
-TEST(PlaneSplit, SplitOneCellGivesNeighboursHangingNodes)
-{
+TEST(PlaneSplit, SplitOneCellGivesNeighboursHangingNodes) {
     auto m = block(2);
     const double v0 = m.rest_volume();
     cut::Cutter cutter(m);
     const Index one[] = { 0 };
     const auto r = cutter.split_by_plane(Vec3(0.02, 0.02, 0.02), Vec3(1, 1, 1), one);
     EXPECT_EQ(r.new_cells.size(), 1u);
-    const auto inv = cut::check_cut_invariants(m, v0, { .convex_tol = 1e-9, .planarity_tol = 1e-9 });
+    const auto inv
+        = cut::check_cut_invariants(m, v0, { .convex_tol = 1e-9, .planarity_tol = 1e-9 });
     EXPECT_TRUE(inv.ok()) << inv.first_problem;
     // Neighbours of cell 0 got nodes on shared edges and changed.
     EXPECT_GT(r.changed_cells.size(), 2u);

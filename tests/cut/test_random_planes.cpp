@@ -10,8 +10,7 @@
 using namespace polycut;
 
 namespace {
-mesh::Mesh block(int n, double size = 0.1)
-{
+mesh::Mesh block(int n, double size = 0.1) {
     mesh::BoxGrid g;
     g.lo = Vec3::Zero();
     g.hi = Vec3::Constant(size);
@@ -20,8 +19,7 @@ mesh::Mesh block(int n, double size = 0.1)
 }
 } // namespace
 
-TEST(RandomPlanes, OneHexThirtyPlanes)
-{
+TEST(RandomPlanes, OneHexThirtyPlanes) {
     const auto hex = block(1);
     const auto m = cut::split_by_random_planes(hex, 30, 7);
     EXPECT_EQ(m.num_cells(), 31);
@@ -39,8 +37,7 @@ TEST(RandomPlanes, OneHexThirtyPlanes)
     EXPECT_GE(lo, 4u);
 }
 
-TEST(RandomPlanes, GridStaysConformingAndDeterministic)
-{
+TEST(RandomPlanes, GridStaysConformingAndDeterministic) {
     const auto grid = block(3);
     cut::RandomPlanesOptions opt;
     opt.one_cell_per_plane = false;
@@ -58,8 +55,7 @@ TEST(RandomPlanes, GridStaysConformingAndDeterministic)
     EXPECT_TRUE(mesh::check_mesh(a, vo).empty());
 }
 
-TEST(WorldToRest, InvertsAffineDeformation)
-{
+TEST(WorldToRest, InvertsAffineDeformation) {
     auto m = block(3);
     Mat3 A;
     A << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0, 0.1, 1.2;

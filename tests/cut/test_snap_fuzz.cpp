@@ -36,8 +36,7 @@ TEST(SnapFuzz, RandomSweepsKeepInvariants) {
     }
 }
 
-TEST(SnapFuzz, RandomSweepsWithDegeneracyRemoval)
-{
+TEST(SnapFuzz, RandomSweepsWithDegeneracyRemoval) {
     // A permissive snap guard makes flat tets common, so collapses run often.
     cut::SnapOptions opt;
     opt.snap_min_aspect = 1e-6;

@@ -12,8 +12,7 @@
 using namespace polycut;
 
 namespace {
-mesh::Mesh block(int n, double size = 0.1, bool tets = false)
-{
+mesh::Mesh block(int n, double size = 0.1, bool tets = false) {
     mesh::BoxGrid g;
     g.lo = Vec3::Zero();
     g.hi = Vec3::Constant(size);
@@ -21,8 +20,7 @@ mesh::Mesh block(int n, double size = 0.1, bool tets = false)
     return tets ? mesh::tet_grid(g) : mesh::hex_grid(g);
 }
 
-cut::CutInvariants expect_ok(const mesh::Mesh& m, double v0, double vtol = 1e-9)
-{
+cut::CutInvariants expect_ok(const mesh::Mesh& m, double v0, double vtol = 1e-9) {
     cut::InvariantOptions io;
     io.volume_tol = vtol;
     const auto inv = cut::check_cut_invariants(m, v0, io);
@@ -31,16 +29,14 @@ cut::CutInvariants expect_ok(const mesh::Mesh& m, double v0, double vtol = 1e-9)
 }
 
 // Two triangles covering the square of the plane through `o` spanned by u, v (half-size r).
-std::vector<cut::Triangle> square(const Vec3& o, const Vec3& u, const Vec3& v, double r)
-{
+std::vector<cut::Triangle> square(const Vec3& o, const Vec3& u, const Vec3& v, double r) {
     const Vec3 a = o - r * u - r * v, b = o + r * u - r * v, c = o + r * u + r * v,
                d = o - r * u + r * v;
     return { { a, b, c }, { a, c, d } };
 }
 
 // Weights of every new node reproduce its rest position and sum to one.
-void expect_weights(const mesh::Mesh& m, const cut::CutReport& r)
-{
+void expect_weights(const mesh::Mesh& m, const cut::CutReport& r) {
     for (const auto& o : r.new_nodes) {
         Vec3 x = Vec3::Zero();
         double sum = 0;
@@ -56,8 +52,7 @@ void expect_weights(const mesh::Mesh& m, const cut::CutReport& r)
     }
 }
 
-std::size_t hash_mesh(const mesh::Mesh& m)
-{
+std::size_t hash_mesh(const mesh::Mesh& m) {
     std::size_t h = m.rest.size() * 1000003u + m.faces.size() * 7919u + m.cells.size();
     for (const Vec3& x : m.rest)
         h = h * 31 + std::hash<double>()(x.x() + 2 * x.y() + 3 * x.z());
@@ -68,8 +63,7 @@ std::size_t hash_mesh(const mesh::Mesh& m)
 }
 } // namespace
 
-TEST(SweepCut, BlockCutInHalves)
-{
+TEST(SweepCut, BlockCutInHalves) {
     for (bool tets : { false, true }) {
         auto m = block(4, 0.1, tets);
         const double v0 = m.rest_volume();
@@ -94,8 +88,7 @@ TEST(SweepCut, BlockCutInHalves)
     }
 }
 
-TEST(SweepCut, CutInFacePlaneSeparatesExistingFaces)
-{
+TEST(SweepCut, CutInFacePlaneSeparatesExistingFaces) {
     auto m = block(4);
     const double v0 = m.rest_volume();
     const Index cells0 = m.num_cells();
@@ -112,8 +105,7 @@ TEST(SweepCut, CutInFacePlaneSeparatesExistingFaces)
     EXPECT_GE(r.cut_faces.size(), 32u);
 }
 
-TEST(SweepCut, CutThroughNodeAndAlongEdge)
-{
+TEST(SweepCut, CutThroughNodeAndAlongEdge) {
     {
         auto m = block(4);
         const double v0 = m.rest_volume();
@@ -132,8 +124,7 @@ TEST(SweepCut, CutThroughNodeAndAlongEdge)
     }
 }
 
-TEST(SweepCut, TangentAndOutsideChangeNothing)
-{
+TEST(SweepCut, TangentAndOutsideChangeNothing) {
     auto m = block(3);
     const std::size_t h0 = hash_mesh(m);
     cut::Cutter cutter(m);
@@ -151,19 +142,18 @@ TEST(SweepCut, TangentAndOutsideChangeNothing)
     EXPECT_EQ(hash_mesh(m), h0);
 }
 
-TEST(SweepCut, DegenerateTrianglesRejectedWithoutChange)
-{
+TEST(SweepCut, DegenerateTrianglesRejectedWithoutChange) {
     auto m = block(3);
     cut::Cutter cutter(m);
     const std::size_t h0 = hash_mesh(m);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const Vec3 a(0.01, 0.02, 0.03), b(0.08, 0.02, 0.05);
     const std::vector<std::vector<cut::Triangle>> bad {
-        { { a, b, a } },                                      // zero area
-        { { a, b, 0.5 * (a + b) } },                          // collinear
-        { { a, b, Vec3(0.05, nan, 0.05) } },                  // NaN
-        { { a, b, Vec3(1e9, 0, 0) } },                        // huge
-        { { a, b, Vec3(0.05, 0.09, 0.05) }, { a, b, a } },    // good, then bad: nothing applied
+        { { a, b, a } }, // zero area
+        { { a, b, 0.5 * (a + b) } }, // collinear
+        { { a, b, Vec3(0.05, nan, 0.05) } }, // NaN
+        { { a, b, Vec3(1e9, 0, 0) } }, // huge
+        { { a, b, Vec3(0.05, 0.09, 0.05) }, { a, b, a } }, // good, then bad: nothing applied
     };
     for (const auto& tris : bad) {
         EXPECT_THROW(cutter.cut(tris), InputError);
@@ -171,8 +161,7 @@ TEST(SweepCut, DegenerateTrianglesRejectedWithoutChange)
     }
 }
 
-TEST(SweepCut, InteriorCutOpensWithPocket)
-{
+TEST(SweepCut, InteriorCutOpensWithPocket) {
     auto m = block(2);
     const double v0 = m.rest_volume();
     cut::Cutter cutter(m);
@@ -187,8 +176,7 @@ TEST(SweepCut, InteriorCutOpensWithPocket)
     expect_weights(m, r);
 }
 
-TEST(SweepCut, ProgressiveIncisionAdvances)
-{
+TEST(SweepCut, ProgressiveIncisionAdvances) {
     // A vertical blade from above the block down to 4 cm deep, moving along y in 2 mm steps
     // (000 Fig. 8): the cut extends, stays one piece, every invariant after each step.
     auto m = block(4);
@@ -222,8 +210,7 @@ TEST(SweepCut, ProgressiveIncisionAdvances)
     EXPECT_LT(m.num_cells() * 10, tets);
 }
 
-TEST(SweepCut, ThinSlices)
-{
+TEST(SweepCut, ThinSlices) {
     // 000 Fig. 9-10: slices 1 mm thick off a 10 cm block.
     auto m = block(4);
     const double v0 = m.rest_volume();
@@ -239,8 +226,7 @@ TEST(SweepCut, ThinSlices)
     EXPECT_NEAR(thinnest, 0.001 * 0.025 * 0.025, 1e-15);
 }
 
-TEST(SweepCut, PencilSharpening)
-{
+TEST(SweepCut, PencilSharpening) {
     // 003 Fig. 7: one convex cell cut again and again; each cut shaves a chip off (chips stay
     // in rest space, so later planes may slice them again: components only grow).
     auto m = block(1, 0.02);
@@ -252,7 +238,8 @@ TEST(SweepCut, PencilSharpening)
         const Vec3 n(std::cos(phi), std::sin(phi), 0.4);
         const Vec3 u = n.cross(Vec3::UnitZ()).normalized(), v = n.normalized().cross(u);
         const double r = 0.0085 - 0.0002 * k; // each round shaves deeper
-        const auto rep = cutter.cut(square(Vec3(0.01, 0.01, 0.01) + r * n.normalized(), u, v, 0.05));
+        const auto rep
+            = cutter.cut(square(Vec3(0.01, 0.01, 0.01) + r * n.normalized(), u, v, 0.05));
         cuts += rep.cut_faces.empty() ? 0 : 1;
         const auto inv = expect_ok(m, v0);
         ASSERT_TRUE(inv.ok()) << "cut " << k;
@@ -265,12 +252,12 @@ TEST(SweepCut, PencilSharpening)
               << " pieces after " << cuts << " cuts\n";
 }
 
-TEST(SweepCut, RepeatedCutInSamePlaceIsStable)
-{
+TEST(SweepCut, RepeatedCutInSamePlaceIsStable) {
     auto m = block(3);
     const double v0 = m.rest_volume();
     cut::Cutter cutter(m);
-    const cut::Triangle t { Vec3(0.021, -0.01, 0.12), Vec3(0.043, 0.07, 0.12), Vec3(0.03, 0.03, 0.04) };
+    const cut::Triangle t { Vec3(0.021, -0.01, 0.12), Vec3(0.043, 0.07, 0.12),
+        Vec3(0.03, 0.03, 0.04) };
     cutter.cut(std::span(&t, 1));
     const Index cells = m.num_cells(), nodes = m.num_nodes();
     for (int k = 0; k < 100; ++k) {

@@ -6,15 +6,13 @@
 #include "polycut/mesh/builders.hpp"
 #include "polycut/solve/cholmod_solver.hpp"
 
-#include <gtest/gtest.h>
-
 #include <functional>
+#include <gtest/gtest.h>
 #include <random>
 
 namespace polycut::test {
 
-inline MatX3 rest_matrix(const mesh::Mesh& m)
-{
+inline MatX3 rest_matrix(const mesh::Mesh& m) {
     MatX3 X(m.num_nodes(), 3);
     for (Index i = 0; i < m.num_nodes(); ++i)
         X.row(i) = m.rest[std::size_t(i)].transpose();
@@ -24,8 +22,8 @@ inline MatX3 rest_matrix(const mesh::Mesh& m)
 /// Consistent nodal loads of a uniform traction t [Pa] on the boundary faces whose nodes all
 /// satisfy `on`: area / k per node of a k-gon (exact for triangles and for planar
 /// parallelogram quads).
-inline VecX traction_load(const mesh::Mesh& m, const Vec3& t, const std::function<bool(const Vec3&)>& on)
-{
+inline VecX traction_load(
+    const mesh::Mesh& m, const Vec3& t, const std::function<bool(const Vec3&)>& on) {
     VecX f = VecX::Zero(3 * m.num_nodes());
     for (Index fid : m.boundary_faces()) {
         const auto& nodes = m.faces[std::size_t(fid)].nodes;
@@ -43,8 +41,8 @@ inline VecX traction_load(const mesh::Mesh& m, const Vec3& t, const std::functio
 
 /// Linear static solve: K u_free = f_free + f_int(x0) where x0 = X + u0 with the prescribed
 /// displacements u0 on fixed DOFs (zero elsewhere). Returns world positions.
-inline MatX3 solve_linear_static(elasticity::ElasticModel& model, const MatX3& x0, const VecX& f_ext)
-{
+inline MatX3 solve_linear_static(
+    elasticity::ElasticModel& model, const MatX3& x0, const VecX& f_ext) {
     solve::SparseMatrix K = model.make_matrix();
     VecX f_int;
     model.assemble(x0, elasticity::ForceMode::Linear, &K, &f_int);

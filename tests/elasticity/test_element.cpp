@@ -9,34 +9,31 @@
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
-
 #include <random>
 
 using namespace polycut;
 using namespace polycut::elasticity;
 
 namespace {
-Material material(double nu)
-{
+Material material(double nu) {
     Material m;
     m.youngs_modulus = 2.5e5;
     m.poisson_ratio = nu;
     return m;
 }
 
-std::array<Vec3, 8> distorted_hex(unsigned seed)
-{
+std::array<Vec3, 8> distorted_hex(unsigned seed) {
     std::array<Vec3, 8> X;
     const auto& R = basis::q1_reference_nodes();
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> jitter(-0.12, 0.12);
     for (int i = 0; i < 8; ++i)
-        X[std::size_t(i)] = 0.5 * (R.row(i).transpose() + Vec3::Ones()) + Vec3(jitter(rng), jitter(rng), jitter(rng));
+        X[std::size_t(i)] = 0.5 * (R.row(i).transpose() + Vec3::Ones())
+            + Vec3(jitter(rng), jitter(rng), jitter(rng));
     return X;
 }
 
-void expect_stiffness_properties(const basis::CellIntegration& ci, const Material& m)
-{
+void expect_stiffness_properties(const basis::CellIntegration& ci, const Material& m) {
     const MatX K = element_stiffness(ci, m);
     // Against sum_q w B^T C B.
     MatX ref = MatX::Zero(K.rows(), K.cols());
@@ -61,8 +58,7 @@ void expect_stiffness_properties(const basis::CellIntegration& ci, const Materia
 }
 } // namespace
 
-TEST(Material, LameParametersAndValidation)
-{
+TEST(Material, LameParametersAndValidation) {
     const Material m = material(0.25);
     EXPECT_NEAR(m.mu(), 2.5e5 / 2.5, 1e-9);
     EXPECT_NEAR(m.lambda(), 2.5e5 * 0.25 / (1.25 * 0.5), 1e-9);
@@ -74,22 +70,21 @@ TEST(Material, LameParametersAndValidation)
     EXPECT_THROW(validate(bad), InputError);
 }
 
-TEST(ElementStiffness, P1SymmetricPsdSixRigidModes)
-{
-    const std::array<Vec3, 4> X { Vec3(0.1, 0.0, 0.2), Vec3(1.2, 0.1, 0.0), Vec3(0.3, 0.9, 0.1), Vec3(0.2, 0.3, 1.0) };
+TEST(ElementStiffness, P1SymmetricPsdSixRigidModes) {
+    const std::array<Vec3, 4> X { Vec3(0.1, 0.0, 0.2), Vec3(1.2, 0.1, 0.0), Vec3(0.3, 0.9, 0.1),
+        Vec3(0.2, 0.3, 1.0) };
     for (double nu : { 0.0, 0.3, 0.49 })
         expect_stiffness_properties(basis::p1_integration(X), material(nu));
 }
 
-TEST(ElementStiffness, Q1SymmetricPsdSixRigidModesOnDistortedHexes)
-{
+TEST(ElementStiffness, Q1SymmetricPsdSixRigidModesOnDistortedHexes) {
     for (unsigned seed : { 1u, 2u, 3u })
         for (double nu : { 0.0, 0.3, 0.45 })
-            expect_stiffness_properties(basis::q1_integration(distorted_hex(seed), 2), material(nu));
+            expect_stiffness_properties(
+                basis::q1_integration(distorted_hex(seed), 2), material(nu));
 }
 
-TEST(Rotation, PolarRotationWarmMatchesSvd)
-{
+TEST(Rotation, PolarRotationWarmMatchesSvd) {
     std::mt19937 rng(11);
     std::normal_distribution<double> n01;
     for (int trial = 0; trial < 50; ++trial) {
@@ -97,7 +92,9 @@ TEST(Rotation, PolarRotationWarmMatchesSvd)
         for (int i = 0; i < 9; ++i)
             A(i / 3, i % 3) = n01(rng);
         A += 2.0 * Mat3::Identity();
-        const Mat3 guess = Eigen::AngleAxisd(n01(rng), Vec3(n01(rng), n01(rng), n01(rng)).normalized()).toRotationMatrix();
+        const Mat3 guess
+            = Eigen::AngleAxisd(n01(rng), Vec3(n01(rng), n01(rng), n01(rng)).normalized())
+                  .toRotationMatrix();
         const Mat3 R = polar_rotation_warm(A, guess);
         const Mat3 ref = geometry::polar_rotation(A);
         EXPECT_LT((R - ref).norm(), 1e-10) << "trial " << trial;
@@ -105,8 +102,7 @@ TEST(Rotation, PolarRotationWarmMatchesSvd)
     }
 }
 
-TEST(Rotation, FitGradientsGiveTheAffineMap)
-{
+TEST(Rotation, FitGradientsGiveTheAffineMap) {
     const auto X = distorted_hex(5);
     MatX3 G;
     ASSERT_TRUE(fit_gradients(X, G));

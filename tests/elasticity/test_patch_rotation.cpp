@@ -6,8 +6,7 @@ using namespace polycut;
 using namespace polycut::elasticity;
 
 namespace {
-Material material()
-{
+Material material() {
     Material m;
     m.youngs_modulus = 1e4;
     m.poisson_ratio = 0.35;
@@ -16,8 +15,7 @@ Material material()
 }
 
 /// Box grid with interior nodes moved randomly by up to 0.25 of a cell.
-mesh::Mesh distorted(bool hexes, const mesh::BoxGrid& g, unsigned seed)
-{
+mesh::Mesh distorted(bool hexes, const mesh::BoxGrid& g, unsigned seed) {
     mesh::Mesh m = hexes ? mesh::hex_grid(g) : mesh::tet_grid(g);
     std::mt19937 rng(seed);
     const Vec3 h = (g.hi - g.lo).cwiseQuotient(g.cells.cast<double>());
@@ -30,13 +28,13 @@ mesh::Mesh distorted(bool hexes, const mesh::BoxGrid& g, unsigned seed)
     return m;
 }
 
-std::vector<std::uint8_t> boundary_node_mask(const mesh::BoxGrid& g)
-{
+std::vector<std::uint8_t> boundary_node_mask(const mesh::BoxGrid& g) {
     std::vector<std::uint8_t> mask(std::size_t((g.cells.array() + 1).prod()), 0);
     for (int k = 0; k <= g.cells.z(); ++k)
         for (int j = 0; j <= g.cells.y(); ++j)
             for (int i = 0; i <= g.cells.x(); ++i)
-                if (i == 0 || j == 0 || k == 0 || i == g.cells.x() || j == g.cells.y() || k == g.cells.z())
+                if (i == 0 || j == 0 || k == 0 || i == g.cells.x() || j == g.cells.y()
+                    || k == g.cells.z())
                     mask[std::size_t(mesh::grid_node(g, i, j, k))] = 1;
     return mask;
 }
@@ -44,8 +42,7 @@ std::vector<std::uint8_t> boundary_node_mask(const mesh::BoxGrid& g)
 class Patch : public ::testing::TestWithParam<bool> { };
 } // namespace
 
-TEST_P(Patch, LinearDisplacementReproducedOnDistortedMesh)
-{
+TEST_P(Patch, LinearDisplacementReproducedOnDistortedMesh) {
     const bool hexes = GetParam();
     mesh::BoxGrid g;
     g.lo = Vec3(0, 0, 0);
@@ -80,8 +77,7 @@ namespace {
 class Rigid : public ::testing::TestWithParam<bool> { };
 } // namespace
 
-TEST_P(Rigid, RotationBy90DegreesGivesZeroCorotatedForce)
-{
+TEST_P(Rigid, RotationBy90DegreesGivesZeroCorotatedForce) {
     const bool hexes = GetParam();
     mesh::BoxGrid g;
     g.hi = Vec3(0.3, 0.2, 0.1);
@@ -110,8 +106,7 @@ class Tangent : public ::testing::TestWithParam<bool> { };
 
 /// Finite-difference Jacobian of the reduced force at x, with the model's cached rotations
 /// warm-started from x (central differences, step h).
-MatX fd_jacobian(ElasticModel& model, const MatX3& x, double h)
-{
+MatX fd_jacobian(ElasticModel& model, const MatX3& x, double h) {
     const Index n = model.num_free_dofs();
     MatX J(n, n);
     VecX fp, fm, rp, rm;
@@ -132,8 +127,7 @@ MatX fd_jacobian(ElasticModel& model, const MatX3& x, double h)
 }
 } // namespace
 
-TEST_P(Tangent, CorotatedStiffnessMatchesForceDerivativeAtRotatedRestState)
-{
+TEST_P(Tangent, CorotatedStiffnessMatchesForceDerivativeAtRotatedRestState) {
     // K_R = R Ke R^T neglects dR/dx. The neglected term is proportional to the local
     // displacement R^T x - X, so at a rigidly rotated rest state K_R is the exact derivative:
     // df/dx = -K_R. We check that to 1e-6 relative; away from it we check that the mismatch is
@@ -170,7 +164,8 @@ TEST_P(Tangent, CorotatedStiffnessMatchesForceDerivativeAtRotatedRestState)
     const double mismatch = (Js + Ks).norm() / Ks.norm();
     EXPECT_LT(mismatch, 0.2);
     EXPECT_GT(mismatch, 1e-6);
-    std::printf("[ info ] %s: |df/dx + K_R| / |K_R| = %.3g at a 5%% strain\n", hexes ? "Q1" : "P1", mismatch);
+    std::printf("[ info ] %s: |df/dx + K_R| / |K_R| = %.3g at a 5%% strain\n", hexes ? "Q1" : "P1",
+        mismatch);
 }
 
 INSTANTIATE_TEST_SUITE_P(P1AndQ1, Tangent, ::testing::Values(false, true));

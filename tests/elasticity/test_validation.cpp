@@ -12,8 +12,7 @@ namespace {
 class Bar : public ::testing::TestWithParam<bool> { };
 } // namespace
 
-TEST_P(Bar, UniaxialTensionMatchesFLOverEA)
-{
+TEST_P(Bar, UniaxialTensionMatchesFLOverEA) {
     // Bar [0, L] x [0, W] x [0, H] pulled by F along x. Rollers: u_x = 0 on x = 0, plus three
     // single components to remove the rigid motions without restraining the lateral contraction.
     const bool hexes = GetParam();
@@ -33,7 +32,8 @@ TEST_P(Bar, UniaxialTensionMatchesFLOverEA)
     fixed[3 * std::size_t(mesh::grid_node(g, 0, 0, 0)) + 2] = 1;
     fixed[3 * std::size_t(mesh::grid_node(g, 0, 3, 0)) + 2] = 1;
     ElasticModel model(m, mat, {}, fixed);
-    const VecX f = test::traction_load(m, Vec3(F / (W * H), 0, 0), [&](const Vec3& p) { return p.x() == L; });
+    const VecX f = test::traction_load(
+        m, Vec3(F / (W * H), 0, 0), [&](const Vec3& p) { return p.x() == L; });
     EXPECT_NEAR(f.sum(), F, 1e-9 * F);
     const MatX3 X = test::rest_matrix(m);
     const MatX3 x = test::solve_linear_static(model, X, f);
@@ -53,8 +53,7 @@ namespace {
 class Column : public ::testing::TestWithParam<bool> { };
 } // namespace
 
-TEST_P(Column, OwnWeightMatchesQuadraticProfile)
-{
+TEST_P(Column, OwnWeightMatchesQuadraticProfile) {
     // Column of height L along z on rollers at z = 0, gravity -z, nu = 0:
     // u_z(z) = -rho g (2 L z - z^2) / (2 E).
     const bool hexes = GetParam();
@@ -88,7 +87,8 @@ TEST_P(Column, OwnWeightMatchesQuadraticProfile)
         worst = std::max(worst, std::abs(x(i, 2) - X(i, 2) - exact));
         lateral = std::max(lateral, (x.row(i).head<2>() - X.row(i).head<2>()).norm());
     }
-    std::printf("[ info ] %s column: max |u_z - exact| / u_tip = %.3g, max lateral / u_tip = %.3g\n",
+    std::printf(
+        "[ info ] %s column: max |u_z - exact| / u_tip = %.3g, max lateral / u_tip = %.3g\n",
         hexes ? "Q1" : "P1", worst / tip, lateral / tip);
     if (hexes) {
         // Q1 on a regular grid with lumped (= consistent for a constant body force) loads is
@@ -108,9 +108,11 @@ TEST_P(Column, OwnWeightMatchesQuadraticProfile)
                     mean += x(mesh::grid_node(g, i, j, k), 2) - X(mesh::grid_node(g, i, j, k), 2);
             mean /= count;
             const double z = L * k / g.cells.z();
-            worst_mean = std::max(worst_mean, std::abs(mean + rho * grav * (2 * L * z - z * z) / (2 * mat.youngs_modulus)));
+            worst_mean = std::max(worst_mean,
+                std::abs(mean + rho * grav * (2 * L * z - z * z) / (2 * mat.youngs_modulus)));
         }
-        std::printf("[ info ] P1 column: max layer-mean |u_z - exact| / u_tip = %.3g\n", worst_mean / tip);
+        std::printf(
+            "[ info ] P1 column: max layer-mean |u_z - exact| / u_tip = %.3g\n", worst_mean / tip);
         EXPECT_LT(worst_mean, 1e-3 * tip);
         EXPECT_LT(worst, 0.05 * tip);
         EXPECT_LT(lateral, 0.15 * tip);
@@ -129,8 +131,7 @@ struct TipResult {
 /// Cantilever of 002 sec. 3.3: l = 1.2 m along x, d = 0.3 m along y, h = 0.2 m along z (the
 /// load acts along -z, the height: y = 4 F l^3 / (E d h^3) = 8.64e-3 m), fixed at x = 0, 3 N
 /// spread equally over the end-face nodes.
-TipResult cantilever(int nx, bool hexes)
-{
+TipResult cantilever(int nx, bool hexes) {
     const double l = 1.2, d = 0.3, h = 0.2, F = 3.0;
     Material mat;
     mat.youngs_modulus = 1e6;
@@ -164,8 +165,7 @@ TipResult cantilever(int nx, bool hexes)
 }
 } // namespace
 
-TEST(Cantilever, P1ConvergesTowardBeamSolutionAndQ1BeatsP1)
-{
+TEST(Cantilever, P1ConvergesTowardBeamSolutionAndQ1BeatsP1) {
     // 002 Table 3.1 errors (%): 29.0, 15.1, 8.6, 5.2, 3.2 for 16, 24, 32, 40, 48 cells along l.
     // The unit test runs 16..32; POLYCUT_LARGE_TESTS=1 adds 40 and 48 (seconds each).
     const double exact = 8.64e-3;
@@ -180,8 +180,10 @@ TEST(Cantilever, P1ConvergesTowardBeamSolutionAndQ1BeatsP1)
         const TipResult q1 = cantilever(nx, true);
         const double e1 = 100 * (exact - p1.mean_deflection) / exact;
         const double eq = 100 * (exact - q1.mean_deflection) / exact;
-        std::printf("[ info ] %2dx%2dx%2d nodes %5d  P1 tip %.4e m err %6.2f %% (paper %4.1f %%)  Q1 tip %.4e m err %6.2f %%\n",
-            nx, nx / 4, nx / 4, int(p1.nodes), p1.mean_deflection, e1, paper[row], q1.mean_deflection, eq);
+        std::printf("[ info ] %2dx%2dx%2d nodes %5d  P1 tip %.4e m err %6.2f %% (paper %4.1f %%)  "
+                    "Q1 tip %.4e m err %6.2f %%\n",
+            nx, nx / 4, nx / 4, int(p1.nodes), p1.mean_deflection, e1, paper[row],
+            q1.mean_deflection, eq);
         // P1 tets are too stiff and converge monotonically from below.
         EXPECT_LT(p1.mean_deflection, previous == 1e9 ? 1e9 : 1.2 * exact);
         EXPECT_LT(std::abs(e1), previous);

@@ -4,9 +4,8 @@
 #include "polycut/integrate/integrator.hpp"
 #include "polycut/mesh/builders.hpp"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
+#include <gtest/gtest.h>
 #include <tuple>
 
 using namespace polycut;
@@ -22,8 +21,7 @@ struct Beam {
 };
 
 /// Beam [0, 0.4] x [0, 0.1] x [0, 0.1] fixed at x = 0.
-Beam beam(bool hexes, const Material& mat, Eigen::Vector3i cells = { 8, 2, 2 })
-{
+Beam beam(bool hexes, const Material& mat, Eigen::Vector3i cells = { 8, 2, 2 }) {
     Beam s;
     mesh::BoxGrid g;
     g.hi = Vec3(0.4, 0.1, 0.1);
@@ -37,8 +35,7 @@ Beam beam(bool hexes, const Material& mat, Eigen::Vector3i cells = { 8, 2, 2 })
     return s;
 }
 
-Material soft()
-{
+Material soft() {
     Material m;
     m.youngs_modulus = 1e6;
     m.poisson_ratio = 0.3;
@@ -48,11 +45,12 @@ Material soft()
     return m;
 }
 
-double max_diff(const MatX3& a, const MatX3& b) { return (a - b).rowwise().norm().maxCoeff(); }
+double max_diff(const MatX3& a, const MatX3& b) {
+    return (a - b).rowwise().norm().maxCoeff();
+}
 } // namespace
 
-TEST(Static, CorotatedModesAgreeAndLinearMatchesForSmallLoads)
-{
+TEST(Static, CorotatedModesAgreeAndLinearMatchesForSmallLoads) {
     Beam s = beam(false, soft());
     IntegratorOptions o;
     o.kind = IntegratorKind::Static;
@@ -61,7 +59,8 @@ TEST(Static, CorotatedModesAgreeAndLinearMatchesForSmallLoads)
     o.static_tolerance = 1e-10;
     MatX3 results[3];
     int k = 0;
-    for (StaticMode mode : { StaticMode::Linear, StaticMode::CorotatedFixedPoint, StaticMode::CorotatedNewton }) {
+    for (StaticMode mode :
+        { StaticMode::Linear, StaticMode::CorotatedFixedPoint, StaticMode::CorotatedNewton }) {
         o.static_mode = mode;
         Integrator integ(*s.model, o);
         State st = integ.rest_state();
@@ -80,8 +79,7 @@ TEST(Static, CorotatedModesAgreeAndLinearMatchesForSmallLoads)
     EXPECT_GT(max_diff(results[0], results[1]), 1e-6 * sag);
 }
 
-TEST(ImplicitEuler, DampedSettlesAtStaticSolution)
-{
+TEST(ImplicitEuler, DampedSettlesAtStaticSolution) {
     for (bool hexes : { false, true }) {
         Beam s = beam(hexes, soft());
         IntegratorOptions o;
@@ -110,8 +108,7 @@ TEST(ImplicitEuler, DampedSettlesAtStaticSolution)
     }
 }
 
-TEST(ImplicitEuler, EnergyNeverGrowsWithoutInput)
-{
+TEST(ImplicitEuler, EnergyNeverGrowsWithoutInput) {
     // Released from a stretched and bent state with no gravity and no forces, undamped and
     // damped: backward Euler is dissipative, so kinetic + elastic energy decreases every step.
     for (double beta : { 0.0, 0.01 }) {
@@ -147,8 +144,7 @@ using StabilityParam = std::tuple<double, double, double>; // dt, E, nu
 class Stability : public ::testing::TestWithParam<StabilityParam> { };
 } // namespace
 
-TEST_P(Stability, NoNaNAndBoundedDisplacement)
-{
+TEST_P(Stability, NoNaNAndBoundedDisplacement) {
     const auto [dt, E, nu] = GetParam();
     Material mat;
     mat.youngs_modulus = E;
@@ -177,9 +173,9 @@ INSTANTIATE_TEST_SUITE_P(Sweep, Stability,
     ::testing::Combine(::testing::Values(1e-4, 1e-2, 0.1), ::testing::Values(1e2, 1e4, 1e8),
         ::testing::Values(0.0, 0.3, 0.49)));
 
-TEST(Rollback, NaNForceIsRejectedAndStateUnchanged)
-{
-    for (IntegratorKind kind : { IntegratorKind::ImplicitEuler, IntegratorKind::SemiImplicitEuler, IntegratorKind::Static }) {
+TEST(Rollback, NaNForceIsRejectedAndStateUnchanged) {
+    for (IntegratorKind kind : { IntegratorKind::ImplicitEuler, IntegratorKind::SemiImplicitEuler,
+             IntegratorKind::Static }) {
         Beam s = beam(false, soft());
         IntegratorOptions o;
         o.kind = kind;
@@ -204,14 +200,13 @@ TEST(Rollback, NaNForceIsRejectedAndStateUnchanged)
     }
 }
 
-TEST(Solvers, CholmodAndPcgVariantsAgree)
-{
+TEST(Solvers, CholmodAndPcgVariantsAgree) {
     Beam s = beam(false, soft());
     MatX3 results[5];
     int k = 0;
-    for (LinearSolverKind kind : { LinearSolverKind::Cholmod, LinearSolverKind::PcgJacobi,
-             LinearSolverKind::PcgBlockJacobi, LinearSolverKind::PcgLagged,
-             LinearSolverKind::CgRelaxation }) {
+    for (LinearSolverKind kind :
+        { LinearSolverKind::Cholmod, LinearSolverKind::PcgJacobi, LinearSolverKind::PcgBlockJacobi,
+            LinearSolverKind::PcgLagged, LinearSolverKind::CgRelaxation }) {
         IntegratorOptions o;
         o.dt = 0.01;
         o.gravity = Vec3(0, 0, -9.81);
@@ -228,8 +223,7 @@ TEST(Solvers, CholmodAndPcgVariantsAgree)
         EXPECT_LT(max_diff(results[i], results[0]), 1e-7 * scale) << "solver " << i;
 }
 
-TEST(SemiImplicitEuler, SmallStepTracksImplicitEuler)
-{
+TEST(SemiImplicitEuler, SmallStepTracksImplicitEuler) {
     // Both first-order integrators converge to the same trajectory as dt -> 0.
     Material mat = soft();
     Beam s = beam(false, mat, { 4, 1, 1 });

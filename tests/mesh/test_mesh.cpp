@@ -6,8 +6,7 @@
 using namespace polycut;
 using namespace polycut::mesh;
 
-TEST(Mesh, TwoHexesShareOneFace)
-{
+TEST(Mesh, TwoHexesShareOneFace) {
     std::vector<Vec3> X;
     for (int k = 0; k < 2; ++k)
         for (int j = 0; j < 2; ++j)
@@ -31,16 +30,14 @@ TEST(Mesh, TwoHexesShareOneFace)
         EXPECT_EQ(m.cells[1].nodes[std::size_t(i)], hexes[1][std::size_t(i)]);
 }
 
-TEST(Mesh, InvertedTetIsReordered)
-{
+TEST(Mesh, InvertedTetIsReordered) {
     std::vector<Vec3> X { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
     const Mesh m = Mesh::from_tets(X, { { 0, 2, 1, 3 } });
     EXPECT_NEAR(m.cell_volume(0), 1.0 / 6.0, 1e-15);
     EXPECT_EQ(m.cells[0].shape, CellShape::Tet);
 }
 
-TEST(Mesh, ThreeCellsOnOneFaceIsAnError)
-{
+TEST(Mesh, ThreeCellsOnOneFaceIsAnError) {
     std::vector<Vec3> X { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0, 0, -1 },
         { 1, 1, 1 } };
     EXPECT_THROW(Mesh::from_tets(X, { { 0, 1, 2, 3 }, { 0, 2, 1, 4 }, { 0, 1, 2, 5 } }), MeshError);
@@ -49,8 +46,7 @@ TEST(Mesh, ThreeCellsOnOneFaceIsAnError)
 
 #include "polycut/mesh/builders.hpp"
 
-TEST(Builders, GridsHaveExactVolumeAndConformingFaces)
-{
+TEST(Builders, GridsHaveExactVolumeAndConformingFaces) {
     BoxGrid g;
     g.lo = Vec3(0, 0, 0);
     g.hi = Vec3(1.2, 0.2, 0.3);

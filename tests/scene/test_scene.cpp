@@ -18,8 +18,7 @@ const char* kMinimal = R"({
 })";
 
 // Parses text and returns the JSON pointer of the SceneError it throws ("" if none).
-std::string error_pointer(const std::string& text)
-{
+std::string error_pointer(const std::string& text) {
     try {
         parse_scene(text);
     } catch (const SceneError& e) {
@@ -28,8 +27,7 @@ std::string error_pointer(const std::string& text)
     return "";
 }
 
-std::string with(const std::string& from, const std::string& to)
-{
+std::string with(const std::string& from, const std::string& to) {
     std::string s = kMinimal;
     const auto pos = s.find(from);
     EXPECT_NE(pos, std::string::npos) << from;
@@ -37,8 +35,7 @@ std::string with(const std::string& from, const std::string& to)
 }
 } // namespace
 
-TEST(Scene, MinimalSceneGetsDefaults)
-{
+TEST(Scene, MinimalSceneGetsDefaults) {
     const Scene s = parse_scene(kMinimal);
     EXPECT_EQ(s.name, "block");
     EXPECT_EQ(s.method, "tet");
@@ -52,8 +49,7 @@ TEST(Scene, MinimalSceneGetsDefaults)
     ASSERT_EQ(s.probes.size(), 1u);
 }
 
-TEST(Scene, ErrorsPointAtTheField)
-{
+TEST(Scene, ErrorsPointAtTheField) {
     EXPECT_EQ(error_pointer(with("\"poisson_ratio\": 0.45", "\"poisson_ratio\": 0.5")),
         "/material/poisson_ratio");
     EXPECT_EQ(error_pointer(with("\"poisson_ratio\": 0.45", "\"poisson_ratio\": \"soft\"")),
@@ -62,10 +58,10 @@ TEST(Scene, ErrorsPointAtTheField)
         "/material/youngs_modulus");
     EXPECT_EQ(error_pointer(with("\"density\": 1000", "\"density\": 1000, \"colour\": 1")),
         "/material/colour");
-    EXPECT_EQ(error_pointer(with("\"cells\": [4, 4, 4]", "\"cells\": [4, 0, 4]")),
-        "/geometry/cells/1");
-    EXPECT_EQ(error_pointer(with("\"size\": [0.1, 0.1, 0.1]", "\"size\": [0.1, 0.1]")),
-        "/geometry/size");
+    EXPECT_EQ(
+        error_pointer(with("\"cells\": [4, 4, 4]", "\"cells\": [4, 0, 4]")), "/geometry/cells/1");
+    EXPECT_EQ(
+        error_pointer(with("\"size\": [0.1, 0.1, 0.1]", "\"size\": [0.1, 0.1]")), "/geometry/size");
     EXPECT_EQ(error_pointer(with("\"normal\": [0, 0, 1]", "\"normal\": [0, 0, 0]")),
         "/fixed/0/plane/normal");
     EXPECT_EQ(error_pointer(with("\"point\": [0.05, 0.05, 0.1]", "\"point\": [0.05, null, 0.1]")),
@@ -78,8 +74,7 @@ TEST(Scene, ErrorsPointAtTheField)
     EXPECT_EQ(error_pointer("[1, 2]"), "/");
 }
 
-TEST(Scene, MessagesSayWhatIsAllowed)
-{
+TEST(Scene, MessagesSayWhatIsAllowed) {
     try {
         parse_scene(with("\"poisson_ratio\": 0.45", "\"poisson_ratio\": 0.7"));
         FAIL() << "no error";
@@ -96,8 +91,7 @@ TEST(Scene, MessagesSayWhatIsAllowed)
     }
 }
 
-TEST(Scene, LoadsAndSweepsParse)
-{
+TEST(Scene, LoadsAndSweepsParse) {
     const std::string text = with("\"loads\": {\"gravity\": [0, 0, -9.81]}",
         R"("loads": {"forces": [{"plane": {"point": [0.1, 0, 0], "normal": [1, 0, 0]},
              "force": [0, 0, -3]}, {"probe": "top", "force": [1, 0, 0]}]},
@@ -113,8 +107,7 @@ TEST(Scene, LoadsAndSweepsParse)
         "/loads/forces/0/probe");
 }
 
-TEST(Scene, EveryShippedSceneParses)
-{
+TEST(Scene, EveryShippedSceneParses) {
     const std::filesystem::path dir = std::filesystem::path(POLYCUT_SOURCE_DIR) / "assets/scenes";
     int count = 0;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {

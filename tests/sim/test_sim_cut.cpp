@@ -18,15 +18,13 @@ const char* kBlock = R"({"name": "cut_block",
   "loads": {"gravity": [0, 0, -9.81]}})";
 
 // Two triangles covering the plane x = x0 over the block and beyond.
-std::vector<std::array<Vec3, 3>> full_sweep(double x0)
-{
+std::vector<std::array<Vec3, 3>> full_sweep(double x0) {
     const Vec3 a(x0, -0.2, -0.1), b(x0, 0.2, -0.1), c(x0, 0.2, 0.3), d(x0, -0.2, 0.3);
     return { { a, b, c }, { a, c, d } };
 }
 } // namespace
 
-TEST(SimulationCut, FullCutMakesTwoPiecesWithoutPopping)
-{
+TEST(SimulationCut, FullCutMakesTwoPiecesWithoutPopping) {
     sim::Simulation s(scene::parse_scene(kBlock));
     for (int i = 0; i < 5; ++i)
         s.step();
@@ -58,8 +56,7 @@ TEST(SimulationCut, FullCutMakesTwoPiecesWithoutPopping)
         EXPECT_TRUE(p.allFinite());
 }
 
-TEST(SimulationCut, SweepOutsideTheTissueChangesNothing)
-{
+TEST(SimulationCut, SweepOutsideTheTissueChangesNothing) {
     sim::Simulation s(scene::parse_scene(kBlock));
     const auto hash = s.state_hash();
     const auto v0 = s.topology_version();

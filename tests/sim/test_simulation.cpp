@@ -8,16 +8,17 @@ using namespace polycut;
 
 namespace {
 // A soft block fixed at its base; method and integrator substituted per test.
-std::string block_scene(const std::string& method, const std::string& integrator,
-    const std::string& extra = "")
-{
+std::string block_scene(
+    const std::string& method, const std::string& integrator, const std::string& extra = "") {
     const bool hex = method == "hex";
     return R"({"name": "block",
       "geometry": {"type": "box", "size": [0.04, 0.04, 0.02], "cells": [4, 4, 2], "elements": ")"
         + std::string(hex ? "hex" : "tet") + R"("},
-      "method": ")" + method + R"(",
+      "method": ")"
+        + method + R"(",
       "material": {"youngs_modulus": 1e4, "poisson_ratio": 0.3, "density": 1000, "rayleigh_stiffness": 0.02},
-      "integrator": )" + integrator + R"(,
+      "integrator": )"
+        + integrator + R"(,
       "solver": {"type": "pcg", "tolerance": 1e-10},
       "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}],
       "loads": {"gravity": [0, 0, -9.81]},
@@ -25,11 +26,12 @@ std::string block_scene(const std::string& method, const std::string& integrator
         + extra + "}";
 }
 
-sim::Simulation make(const std::string& text) { return sim::Simulation(scene::parse_scene(text)); }
+sim::Simulation make(const std::string& text) {
+    return sim::Simulation(scene::parse_scene(text));
+}
 } // namespace
 
-TEST(Simulation, ColumnUnderGravityMatchesAnalyticWithQ1)
-{
+TEST(Simulation, ColumnUnderGravityMatchesAnalyticWithQ1) {
     // nu = 0, laterally unconstrained column: u_z(top) = -rho g L^2 / (2 E) exactly for Q1.
     const std::string text = R"({"name": "column",
       "geometry": {"type": "box", "size": [0.02, 0.02, 0.1], "cells": [1, 1, 10], "elements": "hex"},
@@ -49,11 +51,11 @@ TEST(Simulation, ColumnUnderGravityMatchesAnalyticWithQ1)
     const double top = rho * g * L * L / (2 * E);
     EXPECT_NEAR(s.probe_displacement("top").z(), -top, 1e-9 * top);
     const double z = 0.05;
-    EXPECT_NEAR(s.probe_displacement("mid").z(), -rho * g * (2 * L * z - z * z) / (2 * E), 1e-9 * top);
+    EXPECT_NEAR(
+        s.probe_displacement("mid").z(), -rho * g * (2 * L * z - z * z) / (2 * E), 1e-9 * top);
 }
 
-TEST(Simulation, DampedDynamicsSettleAtTheStaticSolution)
-{
+TEST(Simulation, DampedDynamicsSettleAtTheStaticSolution) {
     sim::Simulation stat = make(block_scene("tet", R"({"type": "static", "corotated": true})"));
     stat.step();
     const Vec3 ref = stat.probe_displacement("top");
@@ -66,8 +68,7 @@ TEST(Simulation, DampedDynamicsSettleAtTheStaticSolution)
     EXPECT_EQ(dyn.tick(), 400);
 }
 
-TEST(Simulation, ForcesAndGrabsMoveTheTissueAndExpire)
-{
+TEST(Simulation, ForcesAndGrabsMoveTheTissueAndExpire) {
     sim::Simulation s = make(block_scene("tet", R"({"type": "static", "corotated": true})"));
     s.step();
     const Vec3 rest = s.probe_displacement("top");
@@ -96,8 +97,7 @@ TEST(Simulation, ForcesAndGrabsMoveTheTissueAndExpire)
     EXPECT_FALSE(s.move_grab(gid, Vec3::Zero()));
 }
 
-TEST(Simulation, BadInputThrowsAndChangesNothing)
-{
+TEST(Simulation, BadInputThrowsAndChangesNothing) {
     sim::Simulation s = make(block_scene("tet", R"({"type": "implicit_euler", "dt": 0.01})"));
     for (int i = 0; i < 3; ++i)
         s.step();
@@ -119,8 +119,7 @@ TEST(Simulation, BadInputThrowsAndChangesNothing)
     EXPECT_THROW(s.probe_displacement("nowhere"), InputError);
 }
 
-TEST(Simulation, SameCommandsGiveTheSameStateAndResetRestores)
-{
+TEST(Simulation, SameCommandsGiveTheSameStateAndResetRestores) {
     auto run = [](sim::Simulation& s) {
         sim::ForceSpec f;
         f.point = Vec3(0.04, 0.02, 0.02);
@@ -145,8 +144,7 @@ TEST(Simulation, SameCommandsGiveTheSameStateAndResetRestores)
     EXPECT_EQ(run(a), ha);
 }
 
-TEST(Simulation, SurfaceIsClosedAndTagged)
-{
+TEST(Simulation, SurfaceIsClosedAndTagged) {
     sim::Simulation s = make(block_scene("hex", R"({"type": "static", "corotated": false})"));
     const sim::Surface surf = s.surface();
     EXPECT_EQ(surf.triangles.size(), 3 * surf.tags.size());
@@ -160,8 +158,7 @@ TEST(Simulation, SurfaceIsClosedAndTagged)
     EXPECT_NEAR(st.rest_volume, 0.04 * 0.04 * 0.02, 1e-15);
 }
 
-TEST(Simulation, SceneErrorsNameTheField)
-{
+TEST(Simulation, SceneErrorsNameTheField) {
     try {
         make(block_scene("tet", R"({"type": "static"})",
             R"(, "cutting": {"snap_distance": 0.01}, "loads2": 1)"));
@@ -172,7 +169,8 @@ TEST(Simulation, SceneErrorsNameTheField)
     // A fixed set that selects nothing is reported with its pointer.
     std::string text = block_scene("tet", R"({"type": "static"})");
     const std::string base_plane = "\"point\": [0, 0, 0], \"normal\": [0, 0, 1]";
-    text.replace(text.find(base_plane), base_plane.size(), "\"point\": [0, 0, -1], \"normal\": [0, 0, 1]");
+    text.replace(
+        text.find(base_plane), base_plane.size(), "\"point\": [0, 0, -1], \"normal\": [0, 0, 1]");
     try {
         make(text);
         FAIL();

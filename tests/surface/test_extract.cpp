@@ -5,8 +5,7 @@
 
 using namespace polycut;
 
-TEST(Surface, BoxGridBoundaryIsClosedWithExactArea)
-{
+TEST(Surface, BoxGridBoundaryIsClosedWithExactArea) {
     mesh::BoxGrid g;
     g.hi = Vec3(0.2, 0.1, 0.05);
     g.cells = { 4, 2, 2 };
@@ -34,8 +33,7 @@ TEST(Surface, BoxGridBoundaryIsClosedWithExactArea)
     }
 }
 
-TEST(Surface, RemovingATriangleOpensTheSurface)
-{
+TEST(Surface, RemovingATriangleOpensTheSurface) {
     mesh::BoxGrid g;
     g.cells = { 1, 1, 1 };
     auto topo = surface::extract_topology(mesh::hex_grid(g));

@@ -10,8 +10,7 @@
 
 namespace polycut::basis {
 
-CellIntegration integrate_cell(const mesh::Mesh& mesh, Index cell, const BasisOptions& options)
-{
+CellIntegration integrate_cell(const mesh::Mesh& mesh, Index cell, const BasisOptions& options) {
     const mesh::Cell& c = mesh.cells.at(std::size_t(cell));
     try {
         switch (c.shape) {

@@ -6,8 +6,7 @@
 
 namespace polycut::basis {
 
-Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Vec3, 4>& X)
-{
+Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Vec3, 4>& X) {
     // Columns of Dm are the edges from node 0; phi_k = (Dm^-1 (p - X0))_k for k = 1..3.
     Mat3 Dm;
     Dm << X[1] - X[0], X[2] - X[0], X[3] - X[0];
@@ -22,16 +21,14 @@ Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Vec3, 4>& X)
     return G;
 }
 
-Eigen::Vector4d p1_shape(const std::array<Vec3, 4>& X, const Vec3& p)
-{
+Eigen::Vector4d p1_shape(const std::array<Vec3, 4>& X, const Vec3& p) {
     Mat3 Dm;
     Dm << X[1] - X[0], X[2] - X[0], X[3] - X[0];
     const Vec3 l = Dm.partialPivLu().solve(p - X[0]);
     return { 1.0 - l.sum(), l.x(), l.y(), l.z() };
 }
 
-CellIntegration p1_integration(const std::array<Vec3, 4>& X)
-{
+CellIntegration p1_integration(const std::array<Vec3, 4>& X) {
     const Eigen::Matrix<double, 4, 3> G = p1_gradients(X);
     const double vol = (X[1] - X[0]).dot((X[2] - X[0]).cross(X[3] - X[0])) / 6.0;
     CellIntegration ci;

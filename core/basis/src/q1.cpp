@@ -7,8 +7,7 @@
 
 namespace polycut::basis {
 
-const Eigen::Matrix<double, 8, 3>& q1_reference_nodes()
-{
+const Eigen::Matrix<double, 8, 3>& q1_reference_nodes() {
     static const Eigen::Matrix<double, 8, 3> kNodes = [] {
         Eigen::Matrix<double, 8, 3> m;
         m << -1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1;
@@ -17,8 +16,7 @@ const Eigen::Matrix<double, 8, 3>& q1_reference_nodes()
     return kNodes;
 }
 
-Eigen::Matrix<double, 8, 1> q1_shape(const Vec3& xi)
-{
+Eigen::Matrix<double, 8, 1> q1_shape(const Vec3& xi) {
     const auto& R = q1_reference_nodes();
     Eigen::Matrix<double, 8, 1> N;
     for (int i = 0; i < 8; ++i)
@@ -26,8 +24,7 @@ Eigen::Matrix<double, 8, 1> q1_shape(const Vec3& xi)
     return N;
 }
 
-Eigen::Matrix<double, 8, 3> q1_reference_gradients(const Vec3& xi)
-{
+Eigen::Matrix<double, 8, 3> q1_reference_gradients(const Vec3& xi) {
     const auto& R = q1_reference_nodes();
     Eigen::Matrix<double, 8, 3> D;
     for (int i = 0; i < 8; ++i) {
@@ -39,8 +36,7 @@ Eigen::Matrix<double, 8, 3> q1_reference_gradients(const Vec3& xi)
     return D;
 }
 
-Vec3 q1_map(const std::array<Vec3, 8>& X, const Vec3& xi)
-{
+Vec3 q1_map(const std::array<Vec3, 8>& X, const Vec3& xi) {
     const auto N = q1_shape(xi);
     Vec3 p = Vec3::Zero();
     for (int i = 0; i < 8; ++i)
@@ -48,8 +44,7 @@ Vec3 q1_map(const std::array<Vec3, 8>& X, const Vec3& xi)
     return p;
 }
 
-CellIntegration q1_integration(const std::array<Vec3, 8>& X, int n)
-{
+CellIntegration q1_integration(const std::array<Vec3, 8>& X, int n) {
     Eigen::Matrix<double, 8, 3> P;
     for (int i = 0; i < 8; ++i)
         P.row(i) = X[std::size_t(i)].transpose();

@@ -1,10 +1,9 @@
 #include "polycut/cut/cutter.hpp"
 
 #include "plane_split.hpp"
-#include "sweep.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "sweep.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,23 +16,20 @@ using detail::at;
 struct Cutter::Impl {
     Impl(mesh::Mesh& mesh, CutOptions o)
         : opt(o)
-        , ed(mesh, opt)
-    {
+        , ed(mesh, opt) {
         measure();
     }
     CutOptions opt;
     detail::Editor ed;
     geometry::Aabb box; // rest bounds of the mesh (cuts never move nodes outside)
 
-    void measure()
-    {
+    void measure() {
         box = {};
         for (const Vec3& x : ed.m.rest)
             box.extend(x);
     }
 
-    void validate(std::span<const Triangle> tris) const
-    {
+    void validate(std::span<const Triangle> tris) const {
         const double L = box.diagonal();
         for (std::size_t i = 0; i < tris.size(); ++i) {
             const std::string where = "triangle " + std::to_string(i);
@@ -45,33 +41,33 @@ struct Cutter::Impl {
                     throw InputError(where, "coordinate too far from the tissue");
             }
             const double area = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
-            const double longest = std::max({ (t[1] - t[0]).norm(), (t[2] - t[1]).norm(),
-                (t[0] - t[2]).norm() });
+            const double longest
+                = std::max({ (t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm() });
             if (!(area > opt.min_area * L * L) || !(2 * area / longest > opt.min_area * L))
-                throw InputError(where, "degenerate triangle (area " + std::to_string(area)
-                        + " m^2)");
+                throw InputError(
+                    where, "degenerate triangle (area " + std::to_string(area) + " m^2)");
         }
     }
 };
 
 Cutter::Cutter(mesh::Mesh& mesh, CutOptions options)
-    : m_impl(std::make_unique<Impl>(mesh, options))
-{
-}
+    : m_impl(std::make_unique<Impl>(mesh, options)) { }
 
 Cutter::~Cutter() = default;
 
-void Cutter::rebuild()
-{
+void Cutter::rebuild() {
     m_impl->ed.rebuild();
     m_impl->measure();
 }
 
-const CutOptions& Cutter::options() const { return m_impl->opt; }
-const mesh::Mesh& Cutter::mesh() const { return m_impl->ed.m; }
+const CutOptions& Cutter::options() const {
+    return m_impl->opt;
+}
+const mesh::Mesh& Cutter::mesh() const {
+    return m_impl->ed.m;
+}
 
-CutReport Cutter::cut(std::span<const Triangle> rest_triangles)
-{
+CutReport Cutter::cut(std::span<const Triangle> rest_triangles) {
     Stopwatch watch;
     m_impl->validate(rest_triangles);
     CutReport report;
@@ -90,9 +86,8 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles)
     return report;
 }
 
-CutReport Cutter::split_by_plane(const Vec3& point, const Vec3& normal,
-    std::span<const Index> cells)
-{
+CutReport Cutter::split_by_plane(
+    const Vec3& point, const Vec3& normal, std::span<const Index> cells) {
     Stopwatch watch;
     if (!point.allFinite() || !normal.allFinite() || !(normal.norm() > 0))
         throw InputError("plane", "non-finite point or zero normal");
@@ -131,9 +126,8 @@ CutReport Cutter::split_by_plane(const Vec3& point, const Vec3& normal,
     return report;
 }
 
-CutReport cut_rest(mesh::Mesh& mesh, std::span<const Triangle> rest_triangles,
-    const CutOptions& options)
-{
+CutReport cut_rest(
+    mesh::Mesh& mesh, std::span<const Triangle> rest_triangles, const CutOptions& options) {
     Cutter cutter(mesh, options);
     return cutter.cut(rest_triangles);
 }

@@ -11,13 +11,11 @@ namespace polycut::cut::detail {
 
 Editor::Editor(mesh::Mesh& mesh, const CutOptions& options)
     : m(mesh)
-    , opt(options)
-{
+    , opt(options) {
     rebuild();
 }
 
-void Editor::rebuild()
-{
+void Editor::rebuild() {
     node_cells = m.node_cells();
     const std::size_t nc = m.cells.size();
     m_bounds.assign(nc, {});
@@ -27,8 +25,7 @@ void Editor::rebuild()
     m_changed_list.clear();
 }
 
-void Editor::begin(CutReport& r)
-{
+void Editor::begin(CutReport& r) {
     report = &r;
     r = CutReport {};
     r.nodes_before = m.num_nodes();
@@ -37,8 +34,7 @@ void Editor::begin(CutReport& r)
     m_changed_list.clear();
 }
 
-void Editor::end()
-{
+void Editor::end() {
     CutReport& r = *report;
     std::sort(m_changed_list.begin(), m_changed_list.end());
     for (Index c : m_changed_list)
@@ -52,8 +48,7 @@ void Editor::end()
     report = nullptr;
 }
 
-void Editor::touch(Index c)
-{
+void Editor::touch(Index c) {
     if (std::size_t(c) >= m_changed.size()) {
         m_changed.resize(m.cells.size(), 0);
         m_bounds.resize(m.cells.size());
@@ -68,8 +63,7 @@ void Editor::touch(Index c)
     }
 }
 
-const geometry::Aabb& Editor::bounds(Index c)
-{
+const geometry::Aabb& Editor::bounds(Index c) {
     if (std::size_t(c) >= m_bounds.size())
         touch(c);
     if (!at(m_bounds_ok, c)) {
@@ -82,8 +76,7 @@ const geometry::Aabb& Editor::bounds(Index c)
     return at(m_bounds, c);
 }
 
-double Editor::thickness(Index c)
-{
+double Editor::thickness(Index c) {
     if (std::size_t(c) >= m_thickness.size())
         touch(c);
     double& h = at(m_thickness, c);
@@ -97,23 +90,20 @@ double Editor::thickness(Index c)
     return h;
 }
 
-double Editor::snap_eps(Index n)
-{
+double Editor::snap_eps(Index n) {
     double h = std::numeric_limits<double>::infinity();
     for (Index c : at(node_cells, n))
         h = std::min(h, thickness(c));
     return std::isfinite(h) ? opt.snap * h : 0.0;
 }
 
-Weights Editor::weights_of(Index n) const
-{
+Weights Editor::weights_of(Index n) const {
     if (!report || n < report->nodes_before)
         return { { n, 1.0 } };
     return at(report->new_nodes, n - report->nodes_before).weights;
 }
 
-Index Editor::add_node(const Vec3& X, Weights weights, Index parent_cell, NodeOrigin::Kind kind)
-{
+Index Editor::add_node(const Vec3& X, Weights weights, Index parent_cell, NodeOrigin::Kind kind) {
     const Index id = m.num_nodes();
     m.rest.push_back(X);
     node_cells.emplace_back();
@@ -127,27 +117,25 @@ Index Editor::add_node(const Vec3& X, Weights weights, Index parent_cell, NodeOr
 }
 
 namespace {
-    Weights blend(const Weights& a, double wa, const Weights& b, double wb)
-    {
-        std::map<Index, double> sum;
-        for (const auto& [n, w] : a)
-            sum[n] += wa * w;
-        for (const auto& [n, w] : b)
-            sum[n] += wb * w;
-        Weights out;
-        for (const auto& [n, w] : sum)
-            if (w != 0)
-                out.emplace_back(n, w);
-        return out;
-    }
+Weights blend(const Weights& a, double wa, const Weights& b, double wb) {
+    std::map<Index, double> sum;
+    for (const auto& [n, w] : a)
+        sum[n] += wa * w;
+    for (const auto& [n, w] : b)
+        sum[n] += wb * w;
+    Weights out;
+    for (const auto& [n, w] : sum)
+        if (w != 0)
+            out.emplace_back(n, w);
+    return out;
+}
 } // namespace
 
-Index Editor::split_edge(Index a, Index b, double t, Index parent_cell)
-{
+Index Editor::split_edge(Index a, Index b, double t, Index parent_cell) {
     t = std::clamp(t, 0.0, 1.0);
     const Vec3 X = (1 - t) * at(m.rest, a) + t * at(m.rest, b);
-    const Index mid = add_node(X, blend(weights_of(a), 1 - t, weights_of(b), t), parent_cell,
-        NodeOrigin::Kind::Edge);
+    const Index mid = add_node(
+        X, blend(weights_of(a), 1 - t, weights_of(b), t), parent_cell, NodeOrigin::Kind::Edge);
     // Every cell around the edge uses both end nodes; insert the node into each face loop where
     // a and b are consecutive (each global face once, whichever cell reaches it first).
     std::vector<Index> around;
@@ -181,8 +169,7 @@ Index Editor::split_edge(Index a, Index b, double t, Index parent_cell)
     return mid;
 }
 
-Index Editor::add_face(mesh::Face face)
-{
+Index Editor::add_face(mesh::Face face) {
     const Index id = m.num_faces();
     m.faces.push_back(std::move(face));
     const mesh::Face& f = m.faces.back();
@@ -195,8 +182,7 @@ Index Editor::add_face(mesh::Face face)
     return id;
 }
 
-Index Editor::split_face(Index f, std::vector<Index> keep, std::vector<Index> other)
-{
+Index Editor::split_face(Index f, std::vector<Index> keep, std::vector<Index> other) {
     mesh::Face g = at(m.faces, f);
     at(m.faces, f).nodes = std::move(keep);
     g.nodes = std::move(other);
@@ -204,8 +190,7 @@ Index Editor::split_face(Index f, std::vector<Index> keep, std::vector<Index> ot
     return add_face(std::move(g));
 }
 
-void Editor::refresh_cell_nodes(Index c)
-{
+void Editor::refresh_cell_nodes(Index c) {
     mesh::Cell& cell = at(m.cells, c);
     std::vector<Index> nodes;
     for (Index f : cell.faces)
@@ -227,16 +212,14 @@ void Editor::refresh_cell_nodes(Index c)
     touch(c);
 }
 
-int find_in(const std::vector<Index>& loop, Index v)
-{
+int find_in(const std::vector<Index>& loop, Index v) {
     for (std::size_t i = 0; i < loop.size(); ++i)
         if (loop[i] == v)
             return int(i);
     return -1;
 }
 
-bool clean_pattern(const std::vector<int>& s)
-{
+bool clean_pattern(const std::vector<int>& s) {
     const int k = int(s.size());
     std::vector<int> nz; // positions of nonzero signs
     for (int i = 0; i < k; ++i)
@@ -258,8 +241,7 @@ bool clean_pattern(const std::vector<int>& s)
 }
 
 void split_loop(const std::vector<Index>& loop, const std::vector<int>& s, std::vector<Index>& plus,
-    std::vector<Index>& minus)
-{
+    std::vector<Index>& minus) {
     const std::size_t k = loop.size();
     // Start of the + arc: a + whose previous node is a zero preceded by a -... find a + node
     // whose predecessor is 0 and for which walking back over zeros reaches a -.

@@ -14,9 +14,7 @@
 
 namespace polycut::cut::detail {
 
-template <class V>
-inline auto& at(V& v, Index i)
-{
+template <class V> inline auto& at(V& v, Index i) {
     return v[std::size_t(i)];
 }
 
@@ -25,7 +23,7 @@ using Weights = std::vector<std::pair<Index, double>>;
 /// A plane n . x = offset with per-node classification (snapped to 0 within eps).
 struct Plane {
     Vec3 normal = Vec3::UnitZ(); ///< unit normal
-    double offset = 0;           ///< [m]
+    double offset = 0; ///< [m]
     double distance(const Vec3& x) const { return normal.dot(x) - offset; }
 };
 

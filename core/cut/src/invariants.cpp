@@ -10,9 +10,8 @@
 
 namespace polycut::cut {
 
-CutInvariants check_cut_invariants(const mesh::Mesh& m, double volume_before,
-    const InvariantOptions& opt)
-{
+CutInvariants check_cut_invariants(
+    const mesh::Mesh& m, double volume_before, const InvariantOptions& opt) {
     CutInvariants r;
     std::ostringstream problem;
     auto fail = [&](const std::string& what) {

@@ -6,8 +6,7 @@
 
 namespace polycut::cut::detail {
 
-int PlaneClassifier::sign(Index n)
-{
+int PlaneClassifier::sign(Index n) {
     auto it = m_sign.find(n);
     if (it != m_sign.end())
         return it->second;
@@ -18,8 +17,7 @@ int PlaneClassifier::sign(Index n)
     return s;
 }
 
-std::vector<int> PlaneClassifier::signs(const std::vector<Index>& loop)
-{
+std::vector<int> PlaneClassifier::signs(const std::vector<Index>& loop) {
     std::vector<int> s;
     s.reserve(loop.size());
     for (Index n : loop)
@@ -27,8 +25,7 @@ std::vector<int> PlaneClassifier::signs(const std::vector<Index>& loop)
     return s;
 }
 
-void PlaneClassifier::split_crossing_edges(Index face, Index parent_cell)
-{
+void PlaneClassifier::split_crossing_edges(Index face, Index parent_cell) {
     // Re-read the loop after each insertion: insertions shift positions.
     for (std::size_t i = 0; i < at(m_ed.m.faces, face).nodes.size(); ++i) {
         const auto& loop = at(m_ed.m.faces, face).nodes;
@@ -44,8 +41,7 @@ void PlaneClassifier::split_crossing_edges(Index face, Index parent_cell)
     }
 }
 
-bool can_split_cell(Editor& ed, PlaneClassifier& cls, Index c)
-{
+bool can_split_cell(Editor& ed, PlaneClassifier& cls, Index c) {
     bool plus = false, minus = false;
     for (Index n : at(ed.m.cells, c).nodes) {
         const int s = cls.sign(n);
@@ -65,42 +61,40 @@ bool can_split_cell(Editor& ed, PlaneClassifier& cls, Index c)
 }
 
 namespace {
-    // The loop closing the open surface made by `loops` (outward for the cell), oriented
-    // outward for the same cell: each boundary edge (u, v) appears reversed.
-    std::vector<Index> closing_loop(const std::vector<std::vector<Index>>& loops)
-    {
-        std::map<std::pair<Index, Index>, int> directed;
-        for (const auto& l : loops)
-            for (std::size_t i = 0; i < l.size(); ++i)
-                ++directed[{ l[i], l[(i + 1) % l.size()] }];
-        std::map<Index, Index> next;
-        for (const auto& [e, count] : directed) {
-            if (directed.count({ e.second, e.first }))
-                continue;
-            // Hole edge (u, v): the closing face walks v -> u.
-            if (count != 1 || next.count(e.second))
-                throw std::logic_error("cut: hole of a split cell is not a simple loop");
-            next[e.second] = e.first;
-        }
-        if (next.size() < 3)
-            throw std::logic_error("cut: hole of a split cell has fewer than 3 nodes");
-        std::vector<Index> loop;
-        Index v = next.begin()->first;
-        do {
-            loop.push_back(v);
-            auto it = next.find(v);
-            if (it == next.end() || loop.size() > next.size())
-                throw std::logic_error("cut: hole of a split cell is not closed");
-            v = it->second;
-        } while (v != loop.front());
-        if (loop.size() != next.size())
-            throw std::logic_error("cut: hole of a split cell has several loops");
-        return loop;
+// The loop closing the open surface made by `loops` (outward for the cell), oriented
+// outward for the same cell: each boundary edge (u, v) appears reversed.
+std::vector<Index> closing_loop(const std::vector<std::vector<Index>>& loops) {
+    std::map<std::pair<Index, Index>, int> directed;
+    for (const auto& l : loops)
+        for (std::size_t i = 0; i < l.size(); ++i)
+            ++directed[{ l[i], l[(i + 1) % l.size()] }];
+    std::map<Index, Index> next;
+    for (const auto& [e, count] : directed) {
+        if (directed.count({ e.second, e.first }))
+            continue;
+        // Hole edge (u, v): the closing face walks v -> u.
+        if (count != 1 || next.count(e.second))
+            throw std::logic_error("cut: hole of a split cell is not a simple loop");
+        next[e.second] = e.first;
     }
+    if (next.size() < 3)
+        throw std::logic_error("cut: hole of a split cell has fewer than 3 nodes");
+    std::vector<Index> loop;
+    Index v = next.begin()->first;
+    do {
+        loop.push_back(v);
+        auto it = next.find(v);
+        if (it == next.end() || loop.size() > next.size())
+            throw std::logic_error("cut: hole of a split cell is not closed");
+        v = it->second;
+    } while (v != loop.front());
+    if (loop.size() != next.size())
+        throw std::logic_error("cut: hole of a split cell has several loops");
+    return loop;
+}
 } // namespace
 
-Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, Index& interface)
-{
+Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, Index& interface) {
     mesh::Mesh& m = ed.m;
     const std::vector<Index> faces = at(m.cells, c).faces;
     for (Index f : faces)

@@ -14,9 +14,7 @@ class PlaneClassifier {
 public:
     PlaneClassifier(Editor& editor, const Plane& plane)
         : m_ed(editor)
-        , m_plane(plane)
-    {
-    }
+        , m_plane(plane) { }
     const Plane& plane() const { return m_plane; }
     /// Signed distance of node n [m].
     double distance(Index n) const { return m_plane.distance(at(m_ed.m.rest, n)); }

@@ -7,9 +7,8 @@
 
 namespace polycut::cut {
 
-mesh::Mesh split_by_random_planes(const mesh::Mesh& input, int planes, unsigned seed,
-    const RandomPlanesOptions& options)
-{
+mesh::Mesh split_by_random_planes(
+    const mesh::Mesh& input, int planes, unsigned seed, const RandomPlanesOptions& options) {
     mesh::Mesh m = input;
     Cutter cutter(m, options.cut);
     std::mt19937 rng(seed);

@@ -60,19 +60,18 @@ std::array<double, 6> tet_dihedral_angles(
 
 namespace snap {
 
-    double tet_mesh_volume(const mesh::Mesh& m)
-    {
-        // Sum of tet volumes from the node lists: no face loops, no allocation.
-        double v = 0;
-        for (const auto& cell : m.cells) {
-            const auto& t = cell.nodes;
-            const Vec3& a = m.rest[std::size_t(t[0])];
-            v += (m.rest[std::size_t(t[1])] - a)
-                     .dot((m.rest[std::size_t(t[2])] - a).cross(m.rest[std::size_t(t[3])] - a))
-                / 6.0;
-        }
-        return v;
+double tet_mesh_volume(const mesh::Mesh& m) {
+    // Sum of tet volumes from the node lists: no face loops, no allocation.
+    double v = 0;
+    for (const auto& cell : m.cells) {
+        const auto& t = cell.nodes;
+        const Vec3& a = m.rest[std::size_t(t[0])];
+        v += (m.rest[std::size_t(t[1])] - a)
+                 .dot((m.rest[std::size_t(t[2])] - a).cross(m.rest[std::size_t(t[3])] - a))
+            / 6.0;
     }
+    return v;
+}
 
 State::State(mesh::Mesh& mesh, const SnapOptions& options)
     : m(mesh)

@@ -1,6 +1,5 @@
-#include "sweep.hpp"
-
 #include "plane_split.hpp"
+#include "sweep.hpp"
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -8,59 +7,58 @@
 
 namespace polycut::cut::detail {
 namespace {
-    using Vec2 = Eigen::Vector2d;
+using Vec2 = Eigen::Vector2d;
 
-    double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+double cross2(const Vec2& a, const Vec2& b) {
+    return a.x() * b.y() - a.y() * b.x();
+}
 
-    // Convex hull, counter-clockwise (Andrew's monotone chain).
-    std::vector<Vec2> convex_hull(std::vector<Vec2> p)
-    {
-        std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
-            return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-        });
-        if (p.size() < 3)
-            return p;
-        std::vector<Vec2> h(2 * p.size());
-        std::size_t k = 0;
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            while (k >= 2 && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0)
-                --k;
-            h[k++] = p[i];
-        }
-        for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
-            while (k >= t && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0)
-                --k;
-            h[k++] = p[i];
-        }
-        h.resize(k - 1);
-        return h;
+// Convex hull, counter-clockwise (Andrew's monotone chain).
+std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
+    std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+        return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+    });
+    if (p.size() < 3)
+        return p;
+    std::vector<Vec2> h(2 * p.size());
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        while (k >= 2 && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0)
+            --k;
+        h[k++] = p[i];
     }
-
-    // Area of the intersection of two counter-clockwise convex polygons (Sutherland-Hodgman).
-    double overlap_area(std::vector<Vec2> subject, const std::vector<Vec2>& clip)
-    {
-        for (std::size_t i = 0; i < clip.size() && !subject.empty(); ++i) {
-            const Vec2 a = clip[i], b = clip[(i + 1) % clip.size()];
-            std::vector<Vec2> out;
-            for (std::size_t j = 0; j < subject.size(); ++j) {
-                const Vec2 p = subject[j], q = subject[(j + 1) % subject.size()];
-                const double sp = cross2(b - a, p - a), sq = cross2(b - a, q - a);
-                if (sp >= 0)
-                    out.push_back(p);
-                if ((sp >= 0) != (sq >= 0))
-                    out.push_back(p + (q - p) * (sp / (sp - sq)));
-            }
-            subject = std::move(out);
-        }
-        double area = 0;
-        for (std::size_t j = 0; j < subject.size(); ++j)
-            area += cross2(subject[j], subject[(j + 1) % subject.size()]);
-        return 0.5 * area;
+    for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+        while (k >= t && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0)
+            --k;
+        h[k++] = p[i];
     }
+    h.resize(k - 1);
+    return h;
+}
+
+// Area of the intersection of two counter-clockwise convex polygons (Sutherland-Hodgman).
+double overlap_area(std::vector<Vec2> subject, const std::vector<Vec2>& clip) {
+    for (std::size_t i = 0; i < clip.size() && !subject.empty(); ++i) {
+        const Vec2 a = clip[i], b = clip[(i + 1) % clip.size()];
+        std::vector<Vec2> out;
+        for (std::size_t j = 0; j < subject.size(); ++j) {
+            const Vec2 p = subject[j], q = subject[(j + 1) % subject.size()];
+            const double sp = cross2(b - a, p - a), sq = cross2(b - a, q - a);
+            if (sp >= 0)
+                out.push_back(p);
+            if ((sp >= 0) != (sq >= 0))
+                out.push_back(p + (q - p) * (sp / (sp - sq)));
+        }
+        subject = std::move(out);
+    }
+    double area = 0;
+    for (std::size_t j = 0; j < subject.size(); ++j)
+        area += cross2(subject[j], subject[(j + 1) % subject.size()]);
+    return 0.5 * area;
+}
 } // namespace
 
-std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri)
-{
+std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
     mesh::Mesh& m = ed.m;
     const Vec3 n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
     PlaneClassifier cls(ed, Plane { n, n.dot(tri[0]) });

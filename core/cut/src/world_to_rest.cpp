@@ -10,20 +10,16 @@
 namespace polycut::cut {
 
 WorldToRest::WorldToRest(const mesh::Mesh& mesh)
-    : m_mesh(mesh)
-{
-}
+    : m_mesh(mesh) { }
 
-void WorldToRest::refit_displaced(const MatX3& u)
-{
+void WorldToRest::refit_displaced(const MatX3& u) {
     std::vector<Vec3> world(m_mesh.rest.size());
     for (std::size_t i = 0; i < world.size(); ++i)
         world[i] = m_mesh.rest[i] + u.row(Eigen::Index(i)).transpose();
     refit(world);
 }
 
-void WorldToRest::refit(std::span<const Vec3> world)
-{
+void WorldToRest::refit(std::span<const Vec3> world) {
     m_world.assign(world.begin(), world.end());
     const std::size_t nc = m_mesh.cells.size();
     m_fit.assign(nc, {});
@@ -56,20 +52,19 @@ void WorldToRest::refit(std::span<const Vec3> world)
         for (int k = lo.z(); k <= hi.z(); ++k)
             for (int j = lo.y(); j <= hi.y(); ++j)
                 for (int i = lo.x(); i <= hi.x(); ++i)
-                    m_buckets[std::size_t(i + m_dims.x() * (j + m_dims.y() * k))].push_back(Index(c));
+                    m_buckets[std::size_t(i + m_dims.x() * (j + m_dims.y() * k))].push_back(
+                        Index(c));
     }
 }
 
-Eigen::Vector3i WorldToRest::bucket(const Vec3& x) const
-{
+Eigen::Vector3i WorldToRest::bucket(const Vec3& x) const {
     Eigen::Vector3i b;
     for (int k = 0; k < 3; ++k)
         b[k] = std::clamp(int(std::floor((x[k] - m_all.lo[k]) / m_step[k])), 0, m_dims[k] - 1);
     return b;
 }
 
-std::vector<Index> WorldToRest::candidates(const geometry::Aabb& box) const
-{
+std::vector<Index> WorldToRest::candidates(const geometry::Aabb& box) const {
     std::vector<Index> out;
     if (m_buckets.empty() || !box.overlaps(m_all))
         return out;
@@ -85,19 +80,18 @@ std::vector<Index> WorldToRest::candidates(const geometry::Aabb& box) const
     return out;
 }
 
-double WorldToRest::depth_outside(Index c, const Vec3& X) const
-{
+double WorldToRest::depth_outside(Index c, const Vec3& X) const {
     // Largest signed distance of X outside the cell's face planes (<= 0 inside a convex cell).
     double worst = -std::numeric_limits<double>::infinity();
     for (Index f : m_mesh.cells[std::size_t(c)].faces) {
         const auto pts = geometry::gather(m_mesh.rest, m_mesh.face_loop(f, c));
-        worst = std::max(worst, (X - geometry::polygon_centroid(pts)).dot(geometry::polygon_normal(pts)));
+        worst = std::max(
+            worst, (X - geometry::polygon_centroid(pts)).dot(geometry::polygon_normal(pts)));
     }
     return worst;
 }
 
-Index WorldToRest::locate(const Vec3& x) const
-{
+Index WorldToRest::locate(const Vec3& x) const {
     geometry::Aabb box;
     box.extend(x);
     Index best = kNone;
@@ -124,20 +118,18 @@ Index WorldToRest::locate(const Vec3& x) const
     return best;
 }
 
-Vec3 WorldToRest::map_point(const Vec3& x) const
-{
+Vec3 WorldToRest::map_point(const Vec3& x) const {
     const Index c = locate(x);
     if (c == kNone)
         return x;
     return m_inverse[std::size_t(c)] * (x - m_fit[std::size_t(c)].t);
 }
 
-std::vector<Triangle> WorldToRest::map_triangle(const Triangle& w, double max_edge) const
-{
+std::vector<Triangle> WorldToRest::map_triangle(const Triangle& w, double max_edge) const {
     int n = 1;
     if (max_edge > 0) {
-        const double longest = std::max({ (w[1] - w[0]).norm(), (w[2] - w[1]).norm(),
-            (w[0] - w[2]).norm() });
+        const double longest
+            = std::max({ (w[1] - w[0]).norm(), (w[2] - w[1]).norm(), (w[0] - w[2]).norm() });
         n = std::clamp(int(std::ceil(longest / max_edge)), 1, 64);
     }
     // Barycentric lattice points (i, j) with i + j <= n, mapped once each.
@@ -153,7 +145,8 @@ std::vector<Triangle> WorldToRest::map_triangle(const Triangle& w, double max_ed
         for (int i = 0; i + j < n; ++i) {
             out.push_back({ mapped[id(i, j)], mapped[id(i + 1, j)], mapped[id(i, j + 1)] });
             if (i + j + 1 < n)
-                out.push_back({ mapped[id(i + 1, j)], mapped[id(i + 1, j + 1)], mapped[id(i, j + 1)] });
+                out.push_back(
+                    { mapped[id(i + 1, j)], mapped[id(i + 1, j + 1)], mapped[id(i, j + 1)] });
         }
     return out;
 }

@@ -8,129 +8,129 @@
 
 namespace polycut::elasticity {
 namespace {
-    /// Per-cell force and stiffness kernel; N = number of nodes when known at compile time
-    /// (4 for tets, 8 for hexes) so that Eigen uses fixed-size 12x12 / 24x24 products.
-    template <int N>
-    void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const MatX3& G,
-        const MatX3& Xr, const MatX3& x, bool corotated, Mat3& R, double* ubuf, double* fbuf,
-        const int* scatter, double* Kvals, double* fint)
-    {
-        constexpr int D = (N == Eigen::Dynamic) ? Eigen::Dynamic : 3 * N;
-        const int d = 3 * n;
-        const Eigen::Map<const Eigen::Matrix<double, D, D>> K(Ke.data(), d, d);
-        Eigen::Map<Eigen::Matrix<double, D, 1>> u(ubuf, d), fl(fbuf, d);
-        Vec3 xc = Vec3::Zero();
+/// Per-cell force and stiffness kernel; N = number of nodes when known at compile time
+/// (4 for tets, 8 for hexes) so that Eigen uses fixed-size 12x12 / 24x24 products.
+template <int N>
+void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const MatX3& G,
+    const MatX3& Xr, const MatX3& x, bool corotated, Mat3& R, double* ubuf, double* fbuf,
+    const int* scatter, double* Kvals, double* fint) {
+    constexpr int D = (N == Eigen::Dynamic) ? Eigen::Dynamic : 3 * N;
+    const int d = 3 * n;
+    const Eigen::Map<const Eigen::Matrix<double, D, D>> K(Ke.data(), d, d);
+    Eigen::Map<Eigen::Matrix<double, D, 1>> u(ubuf, d), fl(fbuf, d);
+    Vec3 xc = Vec3::Zero();
+    for (int i = 0; i < n; ++i)
+        xc += x.row(nodes[std::size_t(i)]).transpose();
+    xc /= double(n);
+    if (corotated) {
+        Mat3 A = Mat3::Zero();
         for (int i = 0; i < n; ++i)
-            xc += x.row(nodes[std::size_t(i)]).transpose();
-        xc /= double(n);
-        if (corotated) {
-            Mat3 A = Mat3::Zero();
-            for (int i = 0; i < n; ++i)
-                A.noalias() += (x.row(nodes[std::size_t(i)]).transpose() - xc) * G.row(i);
-            R = polar_rotation_warm(A, R);
-            for (int i = 0; i < n; ++i)
-                u.template segment<3>(3 * i) = R.transpose() * (x.row(nodes[std::size_t(i)]).transpose() - xc)
-                    - Xr.row(i).transpose();
-        } else {
-            for (int i = 0; i < n; ++i)
-                u.template segment<3>(3 * i)
-                    = x.row(nodes[std::size_t(i)]).transpose() - xc - Xr.row(i).transpose();
-        }
-        if (fint) {
-            fl.noalias() = K * u;
-            for (int i = 0; i < n; ++i) {
-                const Vec3 fi = corotated ? Vec3(R * fl.template segment<3>(3 * i)) : Vec3(fl.template segment<3>(3 * i));
-                double* dst = fint + 3 * std::size_t(nodes[std::size_t(i)]);
-                dst[0] -= fi.x();
-                dst[1] -= fi.y();
-                dst[2] -= fi.z();
-            }
-        }
-        if (Kvals) {
-            for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i) {
-                    const Mat3 B = corotated
-                        ? Mat3(R * K.template block<3, 3>(3 * i, 3 * j) * R.transpose())
-                        : Mat3(K.template block<3, 3>(3 * i, 3 * j));
-                    for (int b = 0; b < 3; ++b)
-                        for (int a = 0; a < 3; ++a) {
-                            const int s = scatter[std::size_t(3 * i + a) * std::size_t(d) + std::size_t(3 * j + b)];
-                            if (s >= 0)
-                                Kvals[s] += B(a, b);
-                        }
-                }
+            A.noalias() += (x.row(nodes[std::size_t(i)]).transpose() - xc) * G.row(i);
+        R = polar_rotation_warm(A, R);
+        for (int i = 0; i < n; ++i)
+            u.template segment<3>(3 * i)
+                = R.transpose() * (x.row(nodes[std::size_t(i)]).transpose() - xc)
+                - Xr.row(i).transpose();
+    } else {
+        for (int i = 0; i < n; ++i)
+            u.template segment<3>(3 * i)
+                = x.row(nodes[std::size_t(i)]).transpose() - xc - Xr.row(i).transpose();
+    }
+    if (fint) {
+        fl.noalias() = K * u;
+        for (int i = 0; i < n; ++i) {
+            const Vec3 fi = corotated ? Vec3(R * fl.template segment<3>(3 * i))
+                                      : Vec3(fl.template segment<3>(3 * i));
+            double* dst = fint + 3 * std::size_t(nodes[std::size_t(i)]);
+            dst[0] -= fi.x();
+            dst[1] -= fi.y();
+            dst[2] -= fi.z();
         }
     }
-
-    /// Closed-form corotated kernel of a P1 tet (isotropic material, one quadrature point):
-    /// H = R^T F - C0 (F = sum_j (x_j - x_c) g_j^T), sigma = lambda tr(H) I + mu (H + H^T),
-    /// f_i = -V R sigma g_i, and the stiffness blocks V (lambda r_i r_j^T + mu r_j r_i^T
-    /// + mu (g_i . g_j) I) with r_i = R g_i. Equal to the generic R Ke (R^T x - X) and R Ke R^T
-    /// for Ke of element_stiffness() up to round-off, at ~1/5 of the flops.
-    template <typename Cell>
-    void p1_kernel(const Cell& t, double lambda, double mu, const MatX3& x, bool corotated,
-        Mat3& R, const int* scatter, double* Kvals, double* fint)
-    {
-        Vec3 p[4];
-        for (int i = 0; i < 4; ++i)
-            p[i] = x.row(t.nodes[i]).transpose();
-        const Vec3 xc = 0.25 * (p[0] + p[1] + p[2] + p[3]);
-        Vec3 g[4];
-        for (int i = 0; i < 4; ++i)
-            g[i] = Vec3(t.g[i][0], t.g[i][1], t.g[i][2]);
-        Mat3 F = Mat3::Zero();
-        for (int i = 0; i < 4; ++i)
-            F.noalias() += (p[i] - xc) * g[i].transpose();
-        const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> C0(&t.c0[0][0]);
-        if (corotated)
-            R = polar_rotation_warm(F, R);
-        const double V = t.volume;
-        if (fint) {
-            const Mat3 H = corotated ? Mat3(R.transpose() * F - C0) : Mat3(F - C0);
-            Mat3 sigma = mu * (H + H.transpose());
-            sigma.diagonal().array() += lambda * H.trace();
-            const Mat3 P = corotated ? Mat3(V * (R * sigma)) : Mat3(V * sigma);
-            for (int i = 0; i < 4; ++i) {
-                const Vec3 fi = P * g[i];
-                double* dst = fint + 3 * std::size_t(t.nodes[i]);
-                dst[0] -= fi.x();
-                dst[1] -= fi.y();
-                dst[2] -= fi.z();
-            }
-        }
-        if (!Kvals)
-            return;
-        Vec3 r[4];
-        for (int i = 0; i < 4; ++i)
-            r[i] = corotated ? Vec3(R * g[i]) : g[i];
-        const double vl = V * lambda, vm = V * mu;
-        for (int i = 0; i < 4; ++i)
-            for (int j = i; j < 4; ++j) {
-                // B = block (i, j); block (j, i) = B^T.
-                Mat3 B = vl * r[i] * r[j].transpose() + vm * r[j] * r[i].transpose();
-                B.diagonal().array() += vm * g[i].dot(g[j]);
-                const int* sij = scatter + std::size_t(3 * i) * 12 + std::size_t(3 * j);
-                const int* sji = scatter + std::size_t(3 * j) * 12 + std::size_t(3 * i);
-                for (int a = 0; a < 3; ++a)
-                    for (int b = 0; b < 3; ++b) {
-                        const int s = sij[a * 12 + b];
+    if (Kvals) {
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const Mat3 B = corotated
+                    ? Mat3(R * K.template block<3, 3>(3 * i, 3 * j) * R.transpose())
+                    : Mat3(K.template block<3, 3>(3 * i, 3 * j));
+                for (int b = 0; b < 3; ++b)
+                    for (int a = 0; a < 3; ++a) {
+                        const int s = scatter[std::size_t(3 * i + a) * std::size_t(d)
+                            + std::size_t(3 * j + b)];
                         if (s >= 0)
                             Kvals[s] += B(a, b);
                     }
-                if (j == i)
-                    continue;
-                for (int a = 0; a < 3; ++a)
-                    for (int b = 0; b < 3; ++b) {
-                        const int s = sji[a * 12 + b];
-                        if (s >= 0)
-                            Kvals[s] += B(b, a);
-                    }
             }
     }
+}
+
+/// Closed-form corotated kernel of a P1 tet (isotropic material, one quadrature point):
+/// H = R^T F - C0 (F = sum_j (x_j - x_c) g_j^T), sigma = lambda tr(H) I + mu (H + H^T),
+/// f_i = -V R sigma g_i, and the stiffness blocks V (lambda r_i r_j^T + mu r_j r_i^T
+/// + mu (g_i . g_j) I) with r_i = R g_i. Equal to the generic R Ke (R^T x - X) and R Ke R^T
+/// for Ke of element_stiffness() up to round-off, at ~1/5 of the flops.
+template <typename Cell>
+void p1_kernel(const Cell& t, double lambda, double mu, const MatX3& x, bool corotated, Mat3& R,
+    const int* scatter, double* Kvals, double* fint) {
+    Vec3 p[4];
+    for (int i = 0; i < 4; ++i)
+        p[i] = x.row(t.nodes[i]).transpose();
+    const Vec3 xc = 0.25 * (p[0] + p[1] + p[2] + p[3]);
+    Vec3 g[4];
+    for (int i = 0; i < 4; ++i)
+        g[i] = Vec3(t.g[i][0], t.g[i][1], t.g[i][2]);
+    Mat3 F = Mat3::Zero();
+    for (int i = 0; i < 4; ++i)
+        F.noalias() += (p[i] - xc) * g[i].transpose();
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> C0(&t.c0[0][0]);
+    if (corotated)
+        R = polar_rotation_warm(F, R);
+    const double V = t.volume;
+    if (fint) {
+        const Mat3 H = corotated ? Mat3(R.transpose() * F - C0) : Mat3(F - C0);
+        Mat3 sigma = mu * (H + H.transpose());
+        sigma.diagonal().array() += lambda * H.trace();
+        const Mat3 P = corotated ? Mat3(V * (R * sigma)) : Mat3(V * sigma);
+        for (int i = 0; i < 4; ++i) {
+            const Vec3 fi = P * g[i];
+            double* dst = fint + 3 * std::size_t(t.nodes[i]);
+            dst[0] -= fi.x();
+            dst[1] -= fi.y();
+            dst[2] -= fi.z();
+        }
+    }
+    if (!Kvals)
+        return;
+    Vec3 r[4];
+    for (int i = 0; i < 4; ++i)
+        r[i] = corotated ? Vec3(R * g[i]) : g[i];
+    const double vl = V * lambda, vm = V * mu;
+    for (int i = 0; i < 4; ++i)
+        for (int j = i; j < 4; ++j) {
+            // B = block (i, j); block (j, i) = B^T.
+            Mat3 B = vl * r[i] * r[j].transpose() + vm * r[j] * r[i].transpose();
+            B.diagonal().array() += vm * g[i].dot(g[j]);
+            const int* sij = scatter + std::size_t(3 * i) * 12 + std::size_t(3 * j);
+            const int* sji = scatter + std::size_t(3 * j) * 12 + std::size_t(3 * i);
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b) {
+                    const int s = sij[a * 12 + b];
+                    if (s >= 0)
+                        Kvals[s] += B(a, b);
+                }
+            if (j == i)
+                continue;
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b) {
+                    const int s = sji[a * 12 + b];
+                    if (s >= 0)
+                        Kvals[s] += B(b, a);
+                }
+        }
+}
 } // namespace
 
-std::vector<std::uint8_t> fix_nodes(const std::vector<std::uint8_t>& node_mask)
-{
+std::vector<std::uint8_t> fix_nodes(const std::vector<std::uint8_t>& node_mask) {
     std::vector<std::uint8_t> dofs(3 * node_mask.size(), 0);
     for (std::size_t i = 0; i < node_mask.size(); ++i)
         if (node_mask[i])
@@ -143,22 +143,19 @@ ElasticModel::ElasticModel(const mesh::Mesh& mesh, const Material& material,
     : m_mesh(&mesh)
     , m_material(material)
     , m_options(options)
-    , m_fixed(std::move(fixed_dofs))
-{
+    , m_fixed(std::move(fixed_dofs)) {
     validate(material);
     if (!m_fixed.empty() && m_fixed.size() != 3 * std::size_t(mesh.num_nodes()))
         throw InputError("fixed_dofs", "the fixed-DOF mask needs 3 entries per node");
     rebuild_topology();
 }
 
-Eigen::Map<const MatX> ElasticModel::cell_stiffness(Index c) const
-{
+Eigen::Map<const MatX> ElasticModel::cell_stiffness(Index c) const {
     const MatX& K = m_cells[std::size_t(c)].stiffness;
     return { K.data(), K.rows(), K.cols() };
 }
 
-void ElasticModel::compute_cell(Index c)
-{
+void ElasticModel::compute_cell(Index c) {
     CellData& cd = m_cells[std::size_t(c)];
     const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
     cd.nodes = cell.nodes;
@@ -200,8 +197,7 @@ void ElasticModel::compute_cell(Index c)
     }
 }
 
-void ElasticModel::rebuild_mass()
-{
+void ElasticModel::rebuild_mass() {
     m_mass.setZero(m_mesh->num_nodes());
     for (const CellData& cd : m_cells)
         for (std::size_t i = 0; i < cd.nodes.size(); ++i)
@@ -211,8 +207,7 @@ void ElasticModel::rebuild_mass()
         m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
 }
 
-void ElasticModel::rebuild_topology()
-{
+void ElasticModel::rebuild_topology() {
     const Index n = m_mesh->num_nodes();
     m_fixed.resize(3 * std::size_t(n), 0);
     m_cells.assign(std::size_t(m_mesh->num_cells()), CellData {});
@@ -224,8 +219,7 @@ void ElasticModel::rebuild_topology()
     rebuild_mass();
 }
 
-void ElasticModel::update_cells(const std::vector<Index>& changed)
-{
+void ElasticModel::update_cells(const std::vector<Index>& changed) {
     if (std::size_t(m_mesh->num_cells()) != m_cells.size()
         || 3 * std::size_t(m_mesh->num_nodes()) != m_fixed.size()) {
         rebuild_topology();
@@ -244,8 +238,7 @@ void ElasticModel::update_cells(const std::vector<Index>& changed)
     rebuild_mass();
 }
 
-void ElasticModel::set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs)
-{
+void ElasticModel::set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs) {
     if (fixed_dofs.size() != 3 * std::size_t(m_mesh->num_nodes()))
         throw InputError("fixed_dofs", "the fixed-DOF mask needs 3 entries per node");
     m_fixed = std::move(fixed_dofs);
@@ -253,8 +246,7 @@ void ElasticModel::set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs)
     rebuild_mass();
 }
 
-void ElasticModel::rebuild_pattern()
-{
+void ElasticModel::rebuild_pattern() {
     const std::size_t ndof = 3 * std::size_t(m_mesh->num_nodes());
     // DOFs of nodes that no cell uses are eliminated too (they would be singular).
     std::vector<std::uint8_t> used(std::size_t(m_mesh->num_nodes()), 0);
@@ -326,8 +318,7 @@ void ElasticModel::rebuild_pattern()
     ++m_topology_version;
 }
 
-solve::SparseMatrix ElasticModel::make_matrix() const
-{
+solve::SparseMatrix ElasticModel::make_matrix() const {
     solve::SparseMatrix A(m_num_free, m_num_free);
     A.resizeNonZeros(Index(m_inner.size()));
     std::copy(m_outer.begin(), m_outer.end(), A.outerIndexPtr());
@@ -336,8 +327,7 @@ solve::SparseMatrix ElasticModel::make_matrix() const
     return A;
 }
 
-void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int)
-{
+void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) {
     double* Kvals = nullptr;
     if (K) {
         if (K->rows() != m_num_free || K->nonZeros() != Index(m_inner.size()) || !K->isCompressed())
@@ -376,8 +366,7 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
     }
 }
 
-double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const
-{
+double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
     double energy = 0;
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
         const CellData& cd = m_cells[c];
@@ -402,15 +391,13 @@ double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const
     return energy;
 }
 
-void ElasticModel::reduce(const VecX& full, VecX& reduced) const
-{
+void ElasticModel::reduce(const VecX& full, VecX& reduced) const {
     reduced.resize(m_num_free);
     for (Index r = 0; r < m_num_free; ++r)
         reduced(r) = full(m_free_dofs[std::size_t(r)]);
 }
 
-void ElasticModel::expand(const VecX& reduced, VecX& full) const
-{
+void ElasticModel::expand(const VecX& reduced, VecX& full) const {
     for (Index r = 0; r < m_num_free; ++r)
         full(m_free_dofs[std::size_t(r)]) = reduced(r);
 }

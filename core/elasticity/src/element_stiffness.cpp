@@ -2,8 +2,7 @@
 
 namespace polycut::elasticity {
 
-MatX strain_displacement(const MatX3& g)
-{
+MatX strain_displacement(const MatX3& g) {
     const Index n = Index(g.rows());
     MatX B = MatX::Zero(6, 3 * n);
     for (Index i = 0; i < n; ++i) {
@@ -21,8 +20,7 @@ MatX strain_displacement(const MatX3& g)
     return B;
 }
 
-MatX element_stiffness(const basis::CellIntegration& ci, const Material& material)
-{
+MatX element_stiffness(const basis::CellIntegration& ci, const Material& material) {
     const double mu = material.mu(), lambda = material.lambda();
     const Index n = ci.gradients.empty() ? 0 : Index(ci.gradients[0].rows());
     MatX K = MatX::Zero(3 * n, 3 * n);

@@ -6,8 +6,7 @@
 
 namespace polycut::elasticity {
 
-void validate(const Material& m)
-{
+void validate(const Material& m) {
     if (!std::isfinite(m.youngs_modulus) || m.youngs_modulus <= 0)
         throw InputError("youngs_modulus", "Young's modulus must be finite and > 0 Pa");
     if (!std::isfinite(m.poisson_ratio) || m.poisson_ratio <= -1 || m.poisson_ratio >= 0.5)
@@ -20,8 +19,7 @@ void validate(const Material& m)
         throw InputError("rayleigh_stiffness", "Rayleigh beta must be finite and >= 0 s");
 }
 
-Eigen::Matrix<double, 6, 6> elasticity_matrix(const Material& m)
-{
+Eigen::Matrix<double, 6, 6> elasticity_matrix(const Material& m) {
     const double mu = m.mu(), lambda = m.lambda();
     Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
     C.topLeftCorner<3, 3>().setConstant(lambda);

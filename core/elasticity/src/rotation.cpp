@@ -7,8 +7,7 @@
 
 namespace polycut::elasticity {
 
-bool fit_gradients(std::span<const Vec3> rest, MatX3& G)
-{
+bool fit_gradients(std::span<const Vec3> rest, MatX3& G) {
     const std::size_t n = rest.size();
     G.setZero(Index(n), 3);
     if (n < 4)
@@ -29,8 +28,7 @@ bool fit_gradients(std::span<const Vec3> rest, MatX3& G)
     return true;
 }
 
-Mat3 polar_rotation_warm(const Mat3& A, const Mat3& guess)
-{
+Mat3 polar_rotation_warm(const Mat3& A, const Mat3& guess) {
     Mat3 X = guess.transpose() * A; // = guess^T R S: polar rotation guess^T R
     const double scale = X.norm();
     if (!(scale > 0) || !std::isfinite(scale))
@@ -43,7 +41,8 @@ Mat3 polar_rotation_warm(const Mat3& A, const Mat3& guess)
         Mat3 Q = Mat3::Identity();
         Mat3 Y = X;
         for (int it = 0; it < 8; ++it) {
-            const Vec3 k(0.5 * (Y(2, 1) - Y(1, 2)), 0.5 * (Y(0, 2) - Y(2, 0)), 0.5 * (Y(1, 0) - Y(0, 1)));
+            const Vec3 k(
+                0.5 * (Y(2, 1) - Y(1, 2)), 0.5 * (Y(0, 2) - Y(2, 0)), 0.5 * (Y(1, 0) - Y(0, 1)));
             Mat3 M = -0.5 * (Y + Y.transpose());
             M.diagonal().array() -= M.trace();
             const double dm = M.determinant();

@@ -13,12 +13,9 @@ using elasticity::ForceMode;
 Integrator::Integrator(elasticity::ElasticModel& model, const IntegratorOptions& options)
     : m_model(&model)
     , m_options(options)
-    , m_solver(options.solver)
-{
-}
+    , m_solver(options.solver) { }
 
-State Integrator::rest_state() const
-{
+State Integrator::rest_state() const {
     State s;
     const auto& rest = m_model->mesh().rest;
     s.x.resize(Index(rest.size()), 3);
@@ -28,10 +25,11 @@ State Integrator::rest_state() const
     return s;
 }
 
-void Integrator::set_external_forces(VecX f_ext) { m_fext = std::move(f_ext); }
+void Integrator::set_external_forces(VecX f_ext) {
+    m_fext = std::move(f_ext);
+}
 
-void Integrator::ensure_topology(StepReport& report)
-{
+void Integrator::ensure_topology(StepReport& report) {
     if (m_model->topology_version() == m_topology)
         return;
     m_topology = m_model->topology_version();
@@ -48,8 +46,7 @@ void Integrator::ensure_topology(StepReport& report)
         report.warnings.emplace_back("no free degrees of freedom");
 }
 
-void Integrator::external_reduced()
-{
+void Integrator::external_reduced() {
     const Index n = m_model->num_nodes();
     m_full.setZero(3 * n);
     if (m_fext.size() == 3 * n)
@@ -60,8 +57,7 @@ void Integrator::external_reduced()
     m_model->reduce(m_full, m_fext_r);
 }
 
-double Integrator::assemble(const MatX3& x, ForceMode mode, bool with_K, StepReport& report)
-{
+double Integrator::assemble(const MatX3& x, ForceMode mode, bool with_K, StepReport& report) {
     const Stopwatch sw;
     m_model->assemble(x, mode, with_K ? &m_K : nullptr, &m_fint);
     m_model->reduce(m_fint, m_fint_r);
@@ -70,8 +66,8 @@ double Integrator::assemble(const MatX3& x, ForceMode mode, bool with_K, StepRep
     return ms;
 }
 
-bool Integrator::linear_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x, StepReport& report)
-{
+bool Integrator::linear_solve(
+    const solve::SparseMatrix& A, const VecX& b, VecX& x, StepReport& report) {
     const Stopwatch sw;
     const LinearSolveResult r = m_solver.solve(A, b, x);
     report.solve_ms += sw.ms();
@@ -79,7 +75,8 @@ bool Integrator::linear_solve(const solve::SparseMatrix& A, const VecX& b, VecX&
     report.residual = r.relative_residual;
     report.status = r.status;
     if (r.status != solve::SolveStatus::Ok) {
-        report.warnings.push_back(std::string("linear solve failed: ") + solve::to_string(r.status));
+        report.warnings.push_back(
+            std::string("linear solve failed: ") + solve::to_string(r.status));
         return false;
     }
     if (!x.allFinite()) {
@@ -91,25 +88,23 @@ bool Integrator::linear_solve(const solve::SparseMatrix& A, const VecX& b, VecX&
 }
 
 namespace {
-    /// x_free += h v_free and v = v_r on free DOFs, v = 0 on fixed DOFs.
-    void advance(const std::vector<Index>& dof_map, const VecX& v_r, double h, State& s)
-    {
-        auto x = flat(s.x);
-        auto v = flat(s.v);
-        for (std::size_t k = 0; k < dof_map.size(); ++k) {
-            const Index r = dof_map[k];
-            if (r == kNone) {
-                v(Index(k)) = 0;
-                continue;
-            }
-            v(Index(k)) = v_r(r);
-            x(Index(k)) += h * v_r(r);
+/// x_free += h v_free and v = v_r on free DOFs, v = 0 on fixed DOFs.
+void advance(const std::vector<Index>& dof_map, const VecX& v_r, double h, State& s) {
+    auto x = flat(s.x);
+    auto v = flat(s.v);
+    for (std::size_t k = 0; k < dof_map.size(); ++k) {
+        const Index r = dof_map[k];
+        if (r == kNone) {
+            v(Index(k)) = 0;
+            continue;
         }
+        v(Index(k)) = v_r(r);
+        x(Index(k)) += h * v_r(r);
     }
+}
 } // namespace
 
-bool Integrator::step_implicit(State& s, StepReport& report)
-{
+bool Integrator::step_implicit(State& s, StepReport& report) {
     // (M + h D + h^2 K_R) dv = h (f_ext + f_int(x) - (D + h K_R) v), D = alpha M + beta K_R.
     const double h = m_options.dt;
     const double alpha = m_model->material().rayleigh_mass;
@@ -148,8 +143,7 @@ bool Integrator::step_implicit(State& s, StepReport& report)
     return true;
 }
 
-bool Integrator::step_semi_implicit(State& s, StepReport& report)
-{
+bool Integrator::step_semi_implicit(State& s, StepReport& report) {
     // v <- v + h M^-1 (f_ext + f_int(x) - D v), x <- x + h v (001, 003).
     const double h = m_options.dt;
     const double alpha = m_model->material().rayleigh_mass;
@@ -177,8 +171,7 @@ bool Integrator::step_semi_implicit(State& s, StepReport& report)
     return true;
 }
 
-bool Integrator::step_static(State& s, StepReport& report)
-{
+bool Integrator::step_static(State& s, StepReport& report) {
     external_reduced();
     if (!m_fext_r.allFinite()) {
         report.status = solve::SolveStatus::NonFinite;
@@ -269,8 +262,7 @@ bool Integrator::step_static(State& s, StepReport& report)
     return true;
 }
 
-StepReport Integrator::step(State& s)
-{
+StepReport Integrator::step(State& s) {
     const Stopwatch sw;
     StepReport report;
     bool backed_up = false;
@@ -344,8 +336,7 @@ StepReport Integrator::step(State& s)
     return report;
 }
 
-double Integrator::energy(const State& s) const
-{
+double Integrator::energy(const State& s) const {
     const VecX& m = m_model->nodal_mass();
     double kinetic = 0;
     for (Index i = 0; i < s.v.rows(); ++i)

@@ -2,46 +2,41 @@
 
 namespace polycut::integrate {
 namespace {
-    solve::PcgOptions pcg_options(const SolverOptions& o)
-    {
-        solve::PcgOptions p;
-        p.relative_tolerance = o.relative_tolerance;
-        p.max_iterations = o.max_iterations;
-        p.refactor_every = o.refactor_every;
-        p.refactor_iterations = o.refactor_iterations;
-        p.background_refactor = o.background_refactor;
-        switch (o.kind) {
-        case LinearSolverKind::PcgBlockJacobi:
-            p.preconditioner = solve::Preconditioner::BlockJacobi3;
-            break;
-        case LinearSolverKind::PcgLagged:
-            p.preconditioner = solve::Preconditioner::LaggedCholesky;
-            break;
-        case LinearSolverKind::PcgIncompleteCholesky:
-            p.preconditioner = solve::Preconditioner::IncompleteCholesky;
-            break;
-        default:
-            p.preconditioner = solve::Preconditioner::Jacobi;
-        }
-        return p;
+solve::PcgOptions pcg_options(const SolverOptions& o) {
+    solve::PcgOptions p;
+    p.relative_tolerance = o.relative_tolerance;
+    p.max_iterations = o.max_iterations;
+    p.refactor_every = o.refactor_every;
+    p.refactor_iterations = o.refactor_iterations;
+    p.background_refactor = o.background_refactor;
+    switch (o.kind) {
+    case LinearSolverKind::PcgBlockJacobi:
+        p.preconditioner = solve::Preconditioner::BlockJacobi3;
+        break;
+    case LinearSolverKind::PcgLagged:
+        p.preconditioner = solve::Preconditioner::LaggedCholesky;
+        break;
+    case LinearSolverKind::PcgIncompleteCholesky:
+        p.preconditioner = solve::Preconditioner::IncompleteCholesky;
+        break;
+    default:
+        p.preconditioner = solve::Preconditioner::Jacobi;
     }
+    return p;
+}
 } // namespace
 
 LinearSolver::LinearSolver(const SolverOptions& options)
     : m_options(options)
-    , m_pcg(pcg_options(options))
-{
-}
+    , m_pcg(pcg_options(options)) { }
 
-void LinearSolver::reset()
-{
+void LinearSolver::reset() {
     m_cholmod = solve::CholmodSolver();
     m_pcg.reset();
 }
 
-LinearSolveResult LinearSolver::solve(const solve::SparseMatrix& A, const solve::Vector& b,
-    solve::Vector& x)
-{
+LinearSolveResult LinearSolver::solve(
+    const solve::SparseMatrix& A, const solve::Vector& b, solve::Vector& x) {
     LinearSolveResult r;
     if (A.rows() == 0) {
         x.resize(0);
@@ -63,12 +58,13 @@ LinearSolveResult LinearSolver::solve(const solve::SparseMatrix& A, const solve:
         if (x.size() != b.size() || !x.allFinite())
             x = solve::Vector::Zero(b.size());
         m_no_fixed.assign(std::size_t(b.size()), false);
-        const auto apply = [&A](const solve::Vector& d, solve::Vector& Ad) { Ad.noalias() = A * d; };
+        const auto apply
+            = [&A](const solve::Vector& d, solve::Vector& Ad) { Ad.noalias() = A * d; };
         const solve::RelaxationResult rr = m_relaxation.relax(
             apply, b, m_no_fixed, x, m_options.relative_tolerance, m_options.max_iterations);
         r.iterations = rr.iterations;
         r.relative_residual = rr.relative_residual;
-        r.status = !x.allFinite()   ? solve::SolveStatus::NonFinite
+        r.status = !x.allFinite() ? solve::SolveStatus::NonFinite
             : rr.breakdown        ? solve::SolveStatus::NotPositiveDefinite
             : rr.converged        ? solve::SolveStatus::Ok
                                   : solve::SolveStatus::NotConverged;

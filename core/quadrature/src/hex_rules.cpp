@@ -4,8 +4,7 @@
 
 namespace polycut::quadrature {
 
-std::vector<RefPoint> hex_rule(int n)
-{
+std::vector<RefPoint> hex_rule(int n) {
     const Rule1d g = gauss_legendre(n); // throws for n < 1
     std::vector<RefPoint> out;
     out.reserve(std::size_t(n * n * n));

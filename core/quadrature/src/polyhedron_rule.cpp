@@ -6,29 +6,26 @@
 
 namespace polycut::quadrature {
 namespace {
-    void append_tet(const std::vector<BaryPoint>& ref, const Vec3& a, const Vec3& b, const Vec3& c,
-        const Vec3& d, std::vector<QuadPoint>& out)
-    {
-        const double vol = (b - a).dot((c - a).cross(d - a)) / 6.0;
-        if (vol == 0.0)
-            return;
-        for (const BaryPoint& p : ref)
-            out.push_back(
-                { p.bary[0] * a + p.bary[1] * b + p.bary[2] * c + p.bary[3] * d, p.weight * vol });
-    }
+void append_tet(const std::vector<BaryPoint>& ref, const Vec3& a, const Vec3& b, const Vec3& c,
+    const Vec3& d, std::vector<QuadPoint>& out) {
+    const double vol = (b - a).dot((c - a).cross(d - a)) / 6.0;
+    if (vol == 0.0)
+        return;
+    for (const BaryPoint& p : ref)
+        out.push_back(
+            { p.bary[0] * a + p.bary[1] * b + p.bary[2] * c + p.bary[3] * d, p.weight * vol });
+}
 } // namespace
 
-std::vector<QuadPoint> rule_on_tet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
-    int degree)
-{
+std::vector<QuadPoint> rule_on_tet(
+    const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int degree) {
     std::vector<QuadPoint> out;
     append_tet(tet_rule(degree), a, b, c, d, out);
     return out;
 }
 
-std::vector<QuadPoint> rule_on_polyhedron(const std::vector<Vec3>& points,
-    const std::vector<std::vector<Index>>& loops, int degree)
-{
+std::vector<QuadPoint> rule_on_polyhedron(
+    const std::vector<Vec3>& points, const std::vector<std::vector<Index>>& loops, int degree) {
     const std::vector<BaryPoint> ref = tet_rule(degree);
     const Vec3 cell_c = geometry::polyhedron_centroid(points, loops);
     std::vector<QuadPoint> out;

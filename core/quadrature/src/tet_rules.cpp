@@ -8,8 +8,7 @@
 
 namespace polycut::quadrature {
 
-std::vector<BaryPoint> tet_rule(int degree)
-{
+std::vector<BaryPoint> tet_rule(int degree) {
     if (degree < 0)
         throw InputError("degree", "a quadrature degree must be >= 0");
     if (degree <= 1)
@@ -43,8 +42,7 @@ std::vector<BaryPoint> tet_rule(int degree)
     return out;
 }
 
-std::vector<BaryPoint> grundmann_moeller_rule(int s)
-{
+std::vector<BaryPoint> grundmann_moeller_rule(int s) {
     if (s < 0)
         throw InputError("s", "the Grundmann-Moeller index must be >= 0");
     constexpr int n = 3; // dimension
@@ -54,8 +52,8 @@ std::vector<BaryPoint> grundmann_moeller_rule(int s)
     // (d + n - 2i)^d / (i! (d + n - i)!) sum_{|beta| = s - i} f((2 beta + 1) / (d + n - 2i)).
     for (int i = 0; i <= s; ++i) {
         const double denom = d + n - 2 * i;
-        const double log_w = -2.0 * s * std::log(2.0) + d * std::log(denom)
-            - std::lgamma(i + 1.0) - std::lgamma(double(d + n - i) + 1.0);
+        const double log_w = -2.0 * s * std::log(2.0) + d * std::log(denom) - std::lgamma(i + 1.0)
+            - std::lgamma(double(d + n - i) + 1.0);
         const double w = ((i % 2) ? -1.0 : 1.0) * std::exp(log_w) * 6.0; // fraction of volume
         const int m = s - i;
         for (int b0 = 0; b0 <= m; ++b0)

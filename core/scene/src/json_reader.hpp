@@ -15,8 +15,7 @@ namespace polycut::scene::detail {
 
 using nlohmann::json;
 
-inline std::string escape_pointer_token(const std::string& key)
-{
+inline std::string escape_pointer_token(const std::string& key) {
     std::string out;
     for (char c : key) {
         if (c == '~')
@@ -34,57 +33,50 @@ class ObjectReader {
 public:
     ObjectReader(const json& j, std::string pointer)
         : m_json(j)
-        , m_pointer(std::move(pointer))
-    {
+        , m_pointer(std::move(pointer)) {
         if (!j.is_object())
             fail("", "must be an object");
     }
 
     const std::string& pointer() const { return m_pointer; }
-    std::string child(const std::string& key) const
-    {
+    std::string child(const std::string& key) const {
         return m_pointer + "/" + escape_pointer_token(key);
     }
 
-    [[noreturn]] void fail(const std::string& key, const std::string& what) const
-    {
+    [[noreturn]] void fail(const std::string& key, const std::string& what) const {
         throw SceneError(key.empty() ? (m_pointer.empty() ? "/" : m_pointer) : child(key), what);
     }
 
-    bool has(const std::string& key)
-    {
+    bool has(const std::string& key) {
         m_seen.insert(key);
         return m_json.contains(key);
     }
-    const json& get(const std::string& key)
-    {
+    const json& get(const std::string& key) {
         if (!has(key))
             fail(key, "is required");
         return m_json.at(key);
     }
 
     double number(const std::string& key, double fallback, double lo, double hi,
-        bool lo_open = false, const char* unit = "")
-    {
+        bool lo_open = false, const char* unit = "") {
         if (!has(key))
             return fallback;
         return number_required(key, lo, hi, lo_open, unit);
     }
-    double number_required(const std::string& key, double lo, double hi, bool lo_open = false,
-        const char* unit = "")
-    {
+    double number_required(
+        const std::string& key, double lo, double hi, bool lo_open = false, const char* unit = "") {
         const json& v = get(key);
         if (!v.is_number())
             fail(key, "must be a number" + unit_suffix(unit));
         const double x = v.get<double>();
         const bool below = lo_open ? !(x > lo) : !(x >= lo);
         if (!std::isfinite(x) || below || !(x <= hi))
-            fail(key, "must be in " + std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi)
-                    + "]" + unit_suffix(unit) + ", got " + fmt(x));
+            fail(key,
+                "must be in " + std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + "]"
+                    + unit_suffix(unit) + ", got " + fmt(x));
         return x;
     }
-    long integer(const std::string& key, long fallback, long lo, long hi)
-    {
+    long integer(const std::string& key, long fallback, long lo, long hi) {
         if (!has(key))
             return fallback;
         const json& v = get(key);
@@ -92,12 +84,12 @@ public:
             fail(key, "must be an integer");
         const long x = v.get<long>();
         if (x < lo || x > hi)
-            fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi)
+            fail(key,
+                "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi)
                     + "], got " + std::to_string(x));
         return x;
     }
-    bool boolean(const std::string& key, bool fallback)
-    {
+    bool boolean(const std::string& key, bool fallback) {
         if (!has(key))
             return fallback;
         const json& v = get(key);
@@ -105,8 +97,7 @@ public:
             fail(key, "must be true or false");
         return v.get<bool>();
     }
-    std::string string(const std::string& key, const std::string& fallback)
-    {
+    std::string string(const std::string& key, const std::string& fallback) {
         if (!has(key))
             return fallback;
         const json& v = get(key);
@@ -115,8 +106,7 @@ public:
         return v.get<std::string>();
     }
     std::string choice(const std::string& key, const std::string& fallback,
-        std::initializer_list<const char*> allowed)
-    {
+        std::initializer_list<const char*> allowed) {
         const std::string s = string(key, fallback);
         for (const char* a : allowed)
             if (s == a)
@@ -127,8 +117,7 @@ public:
         fail(key, "must be one of " + list + ", got \"" + s + "\"");
     }
     Vec3 vec3(const std::string& key, const Vec3& fallback, bool required = false,
-        const char* unit = "")
-    {
+        const char* unit = "") {
         if (!has(key)) {
             if (required)
                 fail(key, "is required");
@@ -138,15 +127,13 @@ public:
     }
 
     /// Rejects keys that were never read.
-    void finish() const
-    {
+    void finish() const {
         for (auto it = m_json.begin(); it != m_json.end(); ++it)
             if (!m_seen.count(it.key()))
                 fail(it.key(), "unknown key (allowed: " + allowed_list() + ")");
     }
 
-    static Vec3 parse_vec3(const json& v, const std::string& ptr, const char* unit = "")
-    {
+    static Vec3 parse_vec3(const json& v, const std::string& ptr, const char* unit = "") {
         if (!v.is_array() || v.size() != 3)
             throw SceneError(ptr, "must be an array of 3 numbers" + unit_suffix(unit));
         Vec3 out;
@@ -160,18 +147,15 @@ public:
     }
 
 private:
-    static std::string unit_suffix(const char* unit)
-    {
+    static std::string unit_suffix(const char* unit) {
         return unit && *unit ? std::string(" [") + unit + "]" : std::string();
     }
-    static std::string fmt(double x)
-    {
+    static std::string fmt(double x) {
         char buf[32];
         std::snprintf(buf, sizeof buf, "%g", x);
         return buf;
     }
-    std::string allowed_list() const
-    {
+    std::string allowed_list() const {
         std::string s;
         for (const auto& k : m_seen)
             s += (s.empty() ? "" : ", ") + k;

@@ -11,231 +11,219 @@
 
 namespace polycut::scene {
 namespace {
-    using detail::json;
-    using detail::ObjectReader;
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    constexpr double kMaxLength = 1e3; // [m] anything larger is a unit mistake
+using detail::json;
+using detail::ObjectReader;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMaxLength = 1e3; // [m] anything larger is a unit mistake
 
-    Geometry parse_geometry(const json& j, const std::string& ptr)
-    {
-        ObjectReader r(j, ptr);
-        Geometry g;
-        const std::string type
-            = r.choice("type", "", { "box", "implicit", "surface_file", "mesh_file", "random_planes" });
-        if (type == "box" || type == "random_planes") {
-            g.kind = type == "box" ? Geometry::Kind::Box : Geometry::Kind::RandomPlanes;
-            g.origin = r.vec3("origin", g.origin, false, "m");
-            g.size = r.vec3("size", g.size, true, "m");
+Geometry parse_geometry(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    Geometry g;
+    const std::string type
+        = r.choice("type", "", { "box", "implicit", "surface_file", "mesh_file", "random_planes" });
+    if (type == "box" || type == "random_planes") {
+        g.kind = type == "box" ? Geometry::Kind::Box : Geometry::Kind::RandomPlanes;
+        g.origin = r.vec3("origin", g.origin, false, "m");
+        g.size = r.vec3("size", g.size, true, "m");
+        for (int i = 0; i < 3; ++i)
+            if (!(g.size[i] > 0) || g.size[i] > kMaxLength)
+                throw SceneError(
+                    r.child("size") + "/" + std::to_string(i), "must be in (0, 1000] [m]");
+        if (r.has("cells")) {
+            const json& c = r.get("cells");
+            if (!c.is_array() || c.size() != 3)
+                r.fail("cells", "must be an array of 3 positive integers");
+            for (int i = 0; i < 3; ++i) {
+                const json& e = c[std::size_t(i)];
+                if (!e.is_number_integer() || e.get<long>() < 1 || e.get<long>() > 1000)
+                    throw SceneError(r.child("cells") + "/" + std::to_string(i),
+                        "must be an integer in [1, 1000]");
+                g.cells[i] = e.get<int>();
+            }
+        }
+        g.elements = r.choice("elements", "tet", { "tet", "hex" });
+        g.tet_split = r.choice("tet_split", "kuhn6", { "kuhn6", "five" });
+        if (g.kind == Geometry::Kind::RandomPlanes)
+            g.planes_per_cell = int(r.integer("planes_per_cell", 3, 1, 64));
+        g.seed = unsigned(r.integer("seed", 1, 0, std::numeric_limits<int>::max()));
+    } else if (type == "implicit") {
+        g.kind = Geometry::Kind::Implicit;
+        g.shape = r.choice("shape", "", { "sphere", "ellipsoid", "capsule", "blob" });
+        g.center = r.vec3("center", g.center, false, "m");
+        if (g.shape == "sphere" || g.shape == "capsule") {
+            const double radius = r.number_required("radius", 0, kMaxLength, true, "m");
+            g.radii = Vec3::Constant(radius);
+        } else {
+            g.radii = r.vec3("radii", g.radii, g.shape == "ellipsoid", "m");
             for (int i = 0; i < 3; ++i)
-                if (!(g.size[i] > 0) || g.size[i] > kMaxLength)
-                    throw SceneError(r.child("size") + "/" + std::to_string(i),
-                        "must be in (0, 1000] [m]");
-            if (r.has("cells")) {
-                const json& c = r.get("cells");
-                if (!c.is_array() || c.size() != 3)
-                    r.fail("cells", "must be an array of 3 positive integers");
-                for (int i = 0; i < 3; ++i) {
-                    const json& e = c[std::size_t(i)];
-                    if (!e.is_number_integer() || e.get<long>() < 1 || e.get<long>() > 1000)
-                        throw SceneError(r.child("cells") + "/" + std::to_string(i),
-                            "must be an integer in [1, 1000]");
-                    g.cells[i] = e.get<int>();
-                }
-            }
-            g.elements = r.choice("elements", "tet", { "tet", "hex" });
-            g.tet_split = r.choice("tet_split", "kuhn6", { "kuhn6", "five" });
-            if (g.kind == Geometry::Kind::RandomPlanes)
-                g.planes_per_cell = int(r.integer("planes_per_cell", 3, 1, 64));
-            g.seed = unsigned(r.integer("seed", 1, 0, std::numeric_limits<int>::max()));
-        } else if (type == "implicit") {
-            g.kind = Geometry::Kind::Implicit;
-            g.shape = r.choice("shape", "", { "sphere", "ellipsoid", "capsule", "blob" });
-            g.center = r.vec3("center", g.center, false, "m");
-            if (g.shape == "sphere" || g.shape == "capsule") {
-                const double radius = r.number_required("radius", 0, kMaxLength, true, "m");
-                g.radii = Vec3::Constant(radius);
-            } else {
-                g.radii = r.vec3("radii", g.radii, g.shape == "ellipsoid", "m");
-                for (int i = 0; i < 3; ++i)
-                    if (!(g.radii[i] > 0))
-                        throw SceneError(r.child("radii") + "/" + std::to_string(i),
-                            "must be > 0 [m]");
-            }
-            if (g.shape == "capsule")
-                g.length = r.number_required("length", 0, kMaxLength, false, "m");
+                if (!(g.radii[i] > 0))
+                    throw SceneError(r.child("radii") + "/" + std::to_string(i), "must be > 0 [m]");
+        }
+        if (g.shape == "capsule")
+            g.length = r.number_required("length", 0, kMaxLength, false, "m");
+        g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
+        g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
+    } else {
+        g.kind = type == "surface_file" ? Geometry::Kind::SurfaceFile : Geometry::Kind::MeshFile;
+        g.path = r.string("path", "");
+        if (g.path.empty())
+            r.fail("path", "is required (a file path relative to the scene file)");
+        g.scale = r.number("scale", 1.0, 0, kMaxLength, true);
+        if (g.kind == Geometry::Kind::SurfaceFile) {
             g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
             g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
-        } else {
-            g.kind = type == "surface_file" ? Geometry::Kind::SurfaceFile : Geometry::Kind::MeshFile;
-            g.path = r.string("path", "");
-            if (g.path.empty())
-                r.fail("path", "is required (a file path relative to the scene file)");
-            g.scale = r.number("scale", 1.0, 0, kMaxLength, true);
-            if (g.kind == Geometry::Kind::SurfaceFile) {
-                g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
-                g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
-            }
         }
-        r.finish();
-        return g;
     }
+    r.finish();
+    return g;
+}
 
-    Material parse_material(const json& j, const std::string& ptr)
-    {
-        ObjectReader r(j, ptr);
-        Material m;
-        m.youngs_modulus = r.number_required("youngs_modulus", 0, 1e12, true, "Pa");
-        m.poisson_ratio = r.number("poisson_ratio", m.poisson_ratio, -0.999, 0.4999);
-        m.density = r.number("density", m.density, 0, 1e5, true, "kg/m^3");
-        m.rayleigh_mass = r.number("rayleigh_mass", 0, 0, 1e6, false, "1/s");
-        m.rayleigh_stiffness = r.number("rayleigh_stiffness", 0, 0, 1e3, false, "s");
+Material parse_material(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    Material m;
+    m.youngs_modulus = r.number_required("youngs_modulus", 0, 1e12, true, "Pa");
+    m.poisson_ratio = r.number("poisson_ratio", m.poisson_ratio, -0.999, 0.4999);
+    m.density = r.number("density", m.density, 0, 1e5, true, "kg/m^3");
+    m.rayleigh_mass = r.number("rayleigh_mass", 0, 0, 1e6, false, "1/s");
+    m.rayleigh_stiffness = r.number("rayleigh_stiffness", 0, 0, 1e3, false, "s");
+    r.finish();
+    return m;
+}
+
+Basis parse_basis(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    Basis b;
+    b.rule = r.choice("rule", b.rule, { "heuristic", "reference", "monte_carlo" });
+    b.gauss_degree = int(r.integer("gauss_degree", b.gauss_degree, 1, 8));
+    b.harmonic_xi = r.number("harmonic_xi", b.harmonic_xi, 0, 10, true);
+    r.finish();
+    return b;
+}
+
+Integrator parse_integrator(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    Integrator it;
+    it.type = r.choice("type", it.type, { "static", "implicit_euler", "semi_implicit_euler" });
+    it.dt = r.number("dt", it.dt, 0, 10, true, "s");
+    it.corotated = r.boolean("corotated", it.corotated);
+    it.static_mode = r.choice("static_mode", it.static_mode, { "newton", "fixed_point" });
+    it.tolerance = r.number("tolerance", it.tolerance, 0, 1, true);
+    it.max_iterations = int(r.integer("max_iterations", it.max_iterations, 1, 100000));
+    r.finish();
+    return it;
+}
+
+Solver parse_solver(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    Solver s;
+    s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
+    s.preconditioner = r.choice(
+        "preconditioner", s.preconditioner, { "jacobi", "block_jacobi", "lagged_cholesky" });
+    s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
+    s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
+    s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));
+    r.finish();
+    return s;
+}
+
+Selector parse_selector(
+    ObjectReader& parent, const std::string& ptr_key_box, const std::string& ptr_key_plane) {
+    Selector s;
+    const bool box = parent.has(ptr_key_box);
+    const bool plane = parent.has(ptr_key_plane);
+    if (box == plane)
+        parent.fail(
+            "", "needs exactly one of \"" + ptr_key_box + "\" or \"" + ptr_key_plane + "\"");
+    if (box) {
+        ObjectReader r(parent.get(ptr_key_box), parent.child(ptr_key_box));
+        s.kind = Selector::Kind::Box;
+        s.min = r.vec3("min", s.min, true, "m");
+        s.max = r.vec3("max", s.max, true, "m");
+        s.tolerance = r.number("padding", 1e-9, 0, kMaxLength, false, "m");
+        for (int i = 0; i < 3; ++i)
+            if (s.min[i] > s.max[i])
+                r.fail("max", "must be >= min in every component");
         r.finish();
-        return m;
-    }
-
-    Basis parse_basis(const json& j, const std::string& ptr)
-    {
-        ObjectReader r(j, ptr);
-        Basis b;
-        b.rule = r.choice("rule", b.rule, { "heuristic", "reference", "monte_carlo" });
-        b.gauss_degree = int(r.integer("gauss_degree", b.gauss_degree, 1, 8));
-        b.harmonic_xi = r.number("harmonic_xi", b.harmonic_xi, 0, 10, true);
+    } else {
+        ObjectReader r(parent.get(ptr_key_plane), parent.child(ptr_key_plane));
+        s.kind = Selector::Kind::Plane;
+        s.point = r.vec3("point", s.point, true, "m");
+        s.normal = r.vec3("normal", s.normal, true);
+        if (!(s.normal.norm() > 0))
+            r.fail("normal", "must be a non-zero vector");
+        s.normal.normalize();
+        s.tolerance = r.number("tolerance", 1e-9, 0, kMaxLength, false, "m");
         r.finish();
-        return b;
     }
+    return s;
+}
 
-    Integrator parse_integrator(const json& j, const std::string& ptr)
-    {
-        ObjectReader r(j, ptr);
-        Integrator it;
-        it.type = r.choice("type", it.type, { "static", "implicit_euler", "semi_implicit_euler" });
-        it.dt = r.number("dt", it.dt, 0, 10, true, "s");
-        it.corotated = r.boolean("corotated", it.corotated);
-        it.static_mode = r.choice("static_mode", it.static_mode, { "newton", "fixed_point" });
-        it.tolerance = r.number("tolerance", it.tolerance, 0, 1, true);
-        it.max_iterations = int(r.integer("max_iterations", it.max_iterations, 1, 100000));
-        r.finish();
-        return it;
+std::array<bool, 3> parse_components(ObjectReader& r) {
+    const std::string c = r.string("components", "xyz");
+    std::array<bool, 3> out { false, false, false };
+    if (c.empty())
+        r.fail("components", "must name at least one of x, y, z");
+    for (char ch : c) {
+        if (ch < 'x' || ch > 'z')
+            r.fail("components", "must be letters from \"xyz\", got \"" + c + "\"");
+        out[std::size_t(ch - 'x')] = true;
     }
+    return out;
+}
 
-    Solver parse_solver(const json& j, const std::string& ptr)
-    {
-        ObjectReader r(j, ptr);
-        Solver s;
-        s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
-        s.preconditioner = r.choice(
-            "preconditioner", s.preconditioner, { "jacobi", "block_jacobi", "lagged_cholesky" });
-        s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
-        s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
-        s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));
-        r.finish();
-        return s;
-    }
+template <class F> void for_each_item(ObjectReader& r, const std::string& key, F&& f) {
+    if (!r.has(key))
+        return;
+    const json& arr = r.get(key);
+    if (!arr.is_array())
+        r.fail(key, "must be an array");
+    for (std::size_t i = 0; i < arr.size(); ++i)
+        f(arr[i], r.child(key) + "/" + std::to_string(i));
+}
 
-    Selector parse_selector(ObjectReader& parent, const std::string& ptr_key_box,
-        const std::string& ptr_key_plane)
-    {
-        Selector s;
-        const bool box = parent.has(ptr_key_box);
-        const bool plane = parent.has(ptr_key_plane);
-        if (box == plane)
-            parent.fail("", "needs exactly one of \"" + ptr_key_box + "\" or \"" + ptr_key_plane + "\"");
-        if (box) {
-            ObjectReader r(parent.get(ptr_key_box), parent.child(ptr_key_box));
-            s.kind = Selector::Kind::Box;
-            s.min = r.vec3("min", s.min, true, "m");
-            s.max = r.vec3("max", s.max, true, "m");
-            s.tolerance = r.number("padding", 1e-9, 0, kMaxLength, false, "m");
-            for (int i = 0; i < 3; ++i)
-                if (s.min[i] > s.max[i])
-                    r.fail("max", "must be >= min in every component");
-            r.finish();
-        } else {
-            ObjectReader r(parent.get(ptr_key_plane), parent.child(ptr_key_plane));
-            s.kind = Selector::Kind::Plane;
-            s.point = r.vec3("point", s.point, true, "m");
-            s.normal = r.vec3("normal", s.normal, true);
-            if (!(s.normal.norm() > 0))
-                r.fail("normal", "must be a non-zero vector");
-            s.normal.normalize();
-            s.tolerance = r.number("tolerance", 1e-9, 0, kMaxLength, false, "m");
-            r.finish();
+Cutting parse_cutting(const json& j, const std::string& ptr, const std::string& default_method) {
+    ObjectReader r(j, ptr);
+    Cutting c;
+    c.method = r.choice("method", default_method, { "split", "snap" });
+    c.snap_distance = r.number("snap_distance", c.snap_distance, 0, 0.5);
+    c.sliver_volume = r.number("sliver_volume", c.sliver_volume, 0, 0.5);
+    for_each_item(r, "sweeps", [&](const json& item, const std::string& p) {
+        ObjectReader s(item, p);
+        Sweep sw;
+        sw.tick = s.integer("tick", 0, 0, std::numeric_limits<int>::max());
+        const json& tris = s.get("triangles");
+        if (!tris.is_array() || tris.empty())
+            s.fail("triangles", "must be a non-empty array of triangles [[x,y,z],[x,y,z],[x,y,z]]");
+        for (std::size_t t = 0; t < tris.size(); ++t) {
+            const std::string tp = s.child("triangles") + "/" + std::to_string(t);
+            if (!tris[t].is_array() || tris[t].size() != 3)
+                throw SceneError(tp, "must be an array of 3 points");
+            std::array<Vec3, 3> tri;
+            for (std::size_t k = 0; k < 3; ++k)
+                tri[k] = ObjectReader::parse_vec3(tris[t][k], tp + "/" + std::to_string(k), "m");
+            sw.triangles.push_back(tri);
         }
-        return s;
-    }
+        s.finish();
+        c.sweeps.push_back(std::move(sw));
+    });
+    r.finish();
+    return c;
+}
 
-    std::array<bool, 3> parse_components(ObjectReader& r)
-    {
-        const std::string c = r.string("components", "xyz");
-        std::array<bool, 3> out { false, false, false };
-        if (c.empty())
-            r.fail("components", "must name at least one of x, y, z");
-        for (char ch : c) {
-            if (ch < 'x' || ch > 'z')
-                r.fail("components", "must be letters from \"xyz\", got \"" + c + "\"");
-            out[std::size_t(ch - 'x')] = true;
-        }
-        return out;
-    }
-
-    template <class F>
-    void for_each_item(ObjectReader& r, const std::string& key, F&& f)
-    {
-        if (!r.has(key))
-            return;
-        const json& arr = r.get(key);
-        if (!arr.is_array())
-            r.fail(key, "must be an array");
-        for (std::size_t i = 0; i < arr.size(); ++i)
-            f(arr[i], r.child(key) + "/" + std::to_string(i));
-    }
-
-    Cutting parse_cutting(const json& j, const std::string& ptr, const std::string& default_method)
-    {
-        ObjectReader r(j, ptr);
-        Cutting c;
-        c.method = r.choice("method", default_method, { "split", "snap" });
-        c.snap_distance = r.number("snap_distance", c.snap_distance, 0, 0.5);
-        c.sliver_volume = r.number("sliver_volume", c.sliver_volume, 0, 0.5);
-        for_each_item(r, "sweeps", [&](const json& item, const std::string& p) {
-            ObjectReader s(item, p);
-            Sweep sw;
-            sw.tick = s.integer("tick", 0, 0, std::numeric_limits<int>::max());
-            const json& tris = s.get("triangles");
-            if (!tris.is_array() || tris.empty())
-                s.fail("triangles", "must be a non-empty array of triangles [[x,y,z],[x,y,z],[x,y,z]]");
-            for (std::size_t t = 0; t < tris.size(); ++t) {
-                const std::string tp = s.child("triangles") + "/" + std::to_string(t);
-                if (!tris[t].is_array() || tris[t].size() != 3)
-                    throw SceneError(tp, "must be an array of 3 points");
-                std::array<Vec3, 3> tri;
-                for (std::size_t k = 0; k < 3; ++k)
-                    tri[k] = ObjectReader::parse_vec3(tris[t][k], tp + "/" + std::to_string(k), "m");
-                sw.triangles.push_back(tri);
-            }
-            s.finish();
-            c.sweeps.push_back(std::move(sw));
-        });
-        r.finish();
-        return c;
-    }
-
-    Camera parse_camera(const json& j, const std::string& ptr)
-    {
-        ObjectReader r(j, ptr);
-        Camera c;
-        c.automatic = !(r.has("position") || r.has("target"));
-        c.position = r.vec3("position", c.position, !c.automatic, "m");
-        c.target = r.vec3("target", c.target, !c.automatic, "m");
-        c.up = r.vec3("up", c.up);
-        c.fov_deg = r.number("fov", c.fov_deg, 1, 170, false, "deg");
-        r.finish();
-        return c;
-    }
+Camera parse_camera(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    Camera c;
+    c.automatic = !(r.has("position") || r.has("target"));
+    c.position = r.vec3("position", c.position, !c.automatic, "m");
+    c.target = r.vec3("target", c.target, !c.automatic, "m");
+    c.up = r.vec3("up", c.up);
+    c.fov_deg = r.number("fov", c.fov_deg, 1, 170, false, "deg");
+    r.finish();
+    return c;
+}
 } // namespace
 
-Scene parse_scene(const std::string& text, const std::string& directory)
-{
+Scene parse_scene(const std::string& text, const std::string& directory) {
     json j;
     try {
         j = json::parse(text);
@@ -253,15 +241,18 @@ Scene parse_scene(const std::string& text, const std::string& directory)
     s.method = r.choice("method", "tet", { "tet", "hex", "mvc", "harmonic", "dg" });
     if (s.method == "dg")
         r.fail("method", "\"dg\" (seed 003) is not available yet; use tet, hex, mvc or harmonic");
-    if (s.method == "hex" && !(s.geometry.kind == Geometry::Kind::Box && s.geometry.elements == "hex"))
+    if (s.method == "hex"
+        && !(s.geometry.kind == Geometry::Kind::Box && s.geometry.elements == "hex"))
         r.fail("method", "\"hex\" needs a box geometry with \"elements\": \"hex\"");
     if (s.method == "tet" && s.geometry.kind == Geometry::Kind::Box && s.geometry.elements == "hex")
-        r.fail("method", "\"tet\" needs tetrahedra; set /geometry/elements to \"tet\" or use method \"hex\"");
+        r.fail("method",
+            "\"tet\" needs tetrahedra; set /geometry/elements to \"tet\" or use method \"hex\"");
     if (r.has("basis"))
         s.basis = parse_basis(r.get("basis"), r.child("basis"));
     if (s.method == "mvc" && s.basis.rule == "monte_carlo")
-        throw SceneError("/basis/rule", "\"monte_carlo\" integrates harmonic cells only; use "
-                                        "\"heuristic\" or \"reference\" for mvc");
+        throw SceneError("/basis/rule",
+            "\"monte_carlo\" integrates harmonic cells only; use "
+            "\"heuristic\" or \"reference\" for mvc");
     s.material = parse_material(r.get("material"), r.child("material"));
     if (r.has("integrator"))
         s.integrator = parse_integrator(r.get("integrator"), r.child("integrator"));
@@ -330,7 +321,8 @@ Scene parse_scene(const std::string& text, const std::string& directory)
     if (r.has("cutting"))
         s.cutting = parse_cutting(r.get("cutting"), r.child("cutting"), s.cutting.method);
     if (s.cutting.method == "snap" && s.method != "tet")
-        throw SceneError("/cutting/method", "\"snap\" (face snapping, seed 002) needs method \"tet\"");
+        throw SceneError(
+            "/cutting/method", "\"snap\" (face snapping, seed 002) needs method \"tet\"");
     if (r.has("camera"))
         s.camera = parse_camera(r.get("camera"), r.child("camera"));
     if (r.has("output")) {
@@ -343,8 +335,7 @@ Scene parse_scene(const std::string& text, const std::string& directory)
     return s;
 }
 
-Scene load_scene(const std::string& path)
-{
+Scene load_scene(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in)
         throw FileError(path, 0, "cannot open scene file");
@@ -358,8 +349,7 @@ Scene load_scene(const std::string& path)
     }
 }
 
-bool selects(const Selector& s, const Vec3& X)
-{
+bool selects(const Selector& s, const Vec3& X) {
     if (s.kind == Selector::Kind::Box)
         return (X.array() >= s.min.array() - s.tolerance).all()
             && (X.array() <= s.max.array() + s.tolerance).all();

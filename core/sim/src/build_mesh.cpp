@@ -12,24 +12,21 @@
 
 namespace polycut::sim {
 namespace {
-    std::string resolve(const scene::Scene& s, const std::string& path)
-    {
-        const std::filesystem::path p(path);
-        if (p.is_absolute() || s.directory.empty())
-            return p.string();
-        return (std::filesystem::path(s.directory) / p).string();
-    }
+std::string resolve(const scene::Scene& s, const std::string& path) {
+    const std::filesystem::path p(path);
+    if (p.is_absolute() || s.directory.empty())
+        return p.string();
+    return (std::filesystem::path(s.directory) / p).string();
+}
 
-    void scale_mesh(mesh::Mesh& m, double scale)
-    {
-        if (scale != 1.0)
-            for (Vec3& X : m.rest)
-                X *= scale;
-    }
+void scale_mesh(mesh::Mesh& m, double scale) {
+    if (scale != 1.0)
+        for (Vec3& X : m.rest)
+            X *= scale;
+}
 } // namespace
 
-mesh::Mesh build_mesh(const scene::Scene& s)
-{
+mesh::Mesh build_mesh(const scene::Scene& s) {
     const scene::Geometry& g = s.geometry;
     mesh::Mesh m;
     switch (g.kind) {
@@ -44,11 +41,13 @@ mesh::Mesh build_mesh(const scene::Scene& s)
             // per split, cells picked in proportion to volume, planes_per_cell splits per block on
             // average.
             const mesh::Mesh hexes = mesh::hex_grid(grid);
-            m = cut::split_by_random_planes(hexes, g.planes_per_cell * int(hexes.num_cells()), g.seed);
+            m = cut::split_by_random_planes(
+                hexes, g.planes_per_cell * int(hexes.num_cells()), g.seed);
         } else if (g.elements == "hex")
             m = mesh::hex_grid(grid);
         else
-            m = mesh::tet_grid(grid, g.tet_split == "five" ? mesh::TetSplit::Five : mesh::TetSplit::Kuhn6);
+            m = mesh::tet_grid(
+                grid, g.tet_split == "five" ? mesh::TetSplit::Five : mesh::TetSplit::Kuhn6);
         break;
     }
     case scene::Geometry::Kind::Implicit: {
@@ -94,10 +93,12 @@ mesh::Mesh build_mesh(const scene::Scene& s)
     if (g.kind == scene::Geometry::Kind::RandomPlanes)
         checks.planarity_tol = 2e-2; // plane splits snap nodes within the cutter's tolerance
     mesh::validate(m, checks);
-    if ((s.method == "tet") && std::any_of(m.cells.begin(), m.cells.end(),
-            [](const mesh::Cell& c) { return c.shape != mesh::CellShape::Tet; }))
-        throw SceneError("/method", "\"tet\" needs a pure tetrahedral mesh; this geometry has other "
-                                    "cells (use \"mvc\" or \"harmonic\")");
+    if ((s.method == "tet") && std::any_of(m.cells.begin(), m.cells.end(), [](const mesh::Cell& c) {
+            return c.shape != mesh::CellShape::Tet;
+        }))
+        throw SceneError("/method",
+            "\"tet\" needs a pure tetrahedral mesh; this geometry has other "
+            "cells (use \"mvc\" or \"harmonic\")");
     return m;
 }
 

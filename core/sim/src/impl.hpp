@@ -40,11 +40,11 @@ struct Simulation::Impl {
     std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets
     std::unique_ptr<elasticity::ElasticModel> model;
     std::unique_ptr<integrate::Integrator> integrator;
-    std::unique_ptr<cut::Cutter> cutter;          ///< cutting.method "split"
+    std::unique_ptr<cut::Cutter> cutter; ///< cutting.method "split"
     std::unique_ptr<cut::SnapCutter> snap_cutter; ///< cutting.method "snap" (tet meshes)
     integrate::State state;
     VecX scene_forces; ///< (3#N) constant nodal loads from the scene [N]
-    VecX f_ext;        ///< (3#N) work vector [N]
+    VecX f_ext; ///< (3#N) work vector [N]
     std::map<long, ActiveForce> forces;
     std::map<long, ActiveGrab> grabs;
     long next_id = 1;

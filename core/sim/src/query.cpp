@@ -1,6 +1,5 @@
 // sim::Simulation queries: surface, probes, mesh figures, state hash, VTU output.
 #include "impl.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "polycut/geometry/polygon.hpp"
@@ -14,8 +13,7 @@
 
 namespace polycut::sim {
 
-Surface Simulation::surface() const
-{
+Surface Simulation::surface() const {
     Surface out;
     out.topology_version = m_impl->topology_version;
     surface::gather_positions(m_impl->topology, m_impl->positions, out.positions);
@@ -24,29 +22,30 @@ Surface Simulation::surface() const
     return out;
 }
 
-void Simulation::surface_positions(std::vector<float>& out) const
-{
+void Simulation::surface_positions(std::vector<float>& out) const {
     surface::gather_positions(m_impl->topology, m_impl->positions, out);
 }
 
-std::uint64_t Simulation::topology_version() const { return m_impl->topology_version; }
+std::uint64_t Simulation::topology_version() const {
+    return m_impl->topology_version;
+}
 
-const std::vector<Vec3>& Simulation::positions() const { return m_impl->positions; }
+const std::vector<Vec3>& Simulation::positions() const {
+    return m_impl->positions;
+}
 
 namespace {
-    /// Barycentric coordinates of X in the tet (a, b, c, d).
-    Eigen::Vector4d barycentric(const Vec3& X, const Vec3& a, const Vec3& b, const Vec3& c,
-        const Vec3& d)
-    {
-        Mat3 T;
-        T << b - a, c - a, d - a;
-        const Vec3 l = T.lu().solve(X - a);
-        return { 1.0 - l.sum(), l.x(), l.y(), l.z() };
-    }
+/// Barycentric coordinates of X in the tet (a, b, c, d).
+Eigen::Vector4d barycentric(
+    const Vec3& X, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    Mat3 T;
+    T << b - a, c - a, d - a;
+    const Vec3 l = T.lu().solve(X - a);
+    return { 1.0 - l.sum(), l.x(), l.y(), l.z() };
+}
 } // namespace
 
-Vec3 Simulation::probe_displacement(const std::string& name) const
-{
+Vec3 Simulation::probe_displacement(const std::string& name) const {
     const Impl& s = *m_impl;
     const scene::Probe* probe = nullptr;
     for (const auto& p : s.scene.probes)
@@ -100,8 +99,7 @@ Vec3 Simulation::probe_displacement(const std::string& name) const
     return near != kNone ? u(near) : Vec3::Zero();
 }
 
-MeshStats Simulation::mesh_stats() const
-{
+MeshStats Simulation::mesh_stats() const {
     const mesh::Mesh& m = m_impl->mesh;
     MeshStats st;
     st.nodes = m.num_nodes();
@@ -113,8 +111,7 @@ MeshStats Simulation::mesh_stats() const
     return st;
 }
 
-std::uint64_t Simulation::state_hash() const
-{
+std::uint64_t Simulation::state_hash() const {
     // FNV-1a over positions, velocities and the topology counts.
     std::uint64_t h = 1469598103934665603ull;
     auto mix = [&](const void* data, std::size_t bytes) {
@@ -127,13 +124,13 @@ std::uint64_t Simulation::state_hash() const
     const auto& st = m_impl->state;
     mix(st.x.data(), std::size_t(st.x.size()) * sizeof(double));
     mix(st.v.data(), std::size_t(st.v.size()) * sizeof(double));
-    const Index counts[3] = { m_impl->mesh.num_nodes(), m_impl->mesh.num_cells(), m_impl->mesh.num_faces() };
+    const Index counts[3]
+        = { m_impl->mesh.num_nodes(), m_impl->mesh.num_cells(), m_impl->mesh.num_faces() };
     mix(counts, sizeof counts);
     return h;
 }
 
-void Simulation::write_vtu(const std::string& path) const
-{
+void Simulation::write_vtu(const std::string& path) const {
     const Impl& s = *m_impl;
     const mesh::Mesh& m = s.mesh;
     mesh::Field disp { "displacement", MatX(m.num_nodes(), 3) };
@@ -144,9 +141,10 @@ void Simulation::write_vtu(const std::string& path) const
     mesh::Field vm { "von_mises", MatX(m.num_cells(), 1) };
     for (Index c = 0; c < m.num_cells(); ++c) {
         const auto& nodes = m.cells[std::size_t(c)].nodes;
-        const auto fit = geometry::fit_affine(geometry::gather(m.rest, nodes),
-            geometry::gather(s.positions, nodes));
-        const Mat3 R = s.scene.integrator.corotated ? geometry::polar_rotation(fit.A) : Mat3::Identity();
+        const auto fit = geometry::fit_affine(
+            geometry::gather(m.rest, nodes), geometry::gather(s.positions, nodes));
+        const Mat3 R
+            = s.scene.integrator.corotated ? geometry::polar_rotation(fit.A) : Mat3::Identity();
         const Mat3 F = R.transpose() * fit.A;
         const Mat3 eps = 0.5 * (F + F.transpose()) - Mat3::Identity();
         const Mat3 sigma = mat.lambda() * eps.trace() * Mat3::Identity() + 2.0 * mat.mu() * eps;

@@ -7,8 +7,7 @@
 
 namespace polycut::sim {
 
-elasticity::Material elasticity_material(const scene::Scene& s)
-{
+elasticity::Material elasticity_material(const scene::Scene& s) {
     elasticity::Material m;
     m.youngs_modulus = s.material.youngs_modulus;
     m.poisson_ratio = s.material.poisson_ratio;
@@ -18,13 +17,12 @@ elasticity::Material elasticity_material(const scene::Scene& s)
     return m;
 }
 
-basis::BasisOptions basis_options(const scene::Scene& s)
-{
+basis::BasisOptions basis_options(const scene::Scene& s) {
     basis::BasisOptions b;
     b.poly = s.method == "harmonic" ? basis::PolyBasis::Harmonic : basis::PolyBasis::MeanValue;
-    b.rule = s.basis.rule == "reference"  ? basis::PolyRule::Reference
-        : s.basis.rule == "monte_carlo" ? basis::PolyRule::MonteCarlo
-                                        : basis::PolyRule::Heuristic;
+    b.rule = s.basis.rule == "reference" ? basis::PolyRule::Reference
+        : s.basis.rule == "monte_carlo"  ? basis::PolyRule::MonteCarlo
+                                         : basis::PolyRule::Heuristic;
     if (s.method == "harmonic" && s.basis.rule == "heuristic")
         b.rule = basis::PolyRule::Reference; // the heuristic rule is specific to mean value cells
     b.gauss_degree = s.basis.gauss_degree;
@@ -32,8 +30,7 @@ basis::BasisOptions basis_options(const scene::Scene& s)
     return b;
 }
 
-Index nearest_node(const mesh::Mesh& m, const Vec3& X)
-{
+Index nearest_node(const mesh::Mesh& m, const Vec3& X) {
     std::vector<std::uint8_t> used(m.rest.size(), 0);
     for (const auto& c : m.cells)
         for (Index n : c.nodes)
@@ -52,8 +49,7 @@ Index nearest_node(const mesh::Mesh& m, const Vec3& X)
     return best;
 }
 
-std::vector<std::uint8_t> fixed_dofs_from_scene(const scene::Scene& s, const mesh::Mesh& m)
-{
+std::vector<std::uint8_t> fixed_dofs_from_scene(const scene::Scene& s, const mesh::Mesh& m) {
     std::vector<std::uint8_t> mask(3 * m.rest.size(), 0);
     for (std::size_t f = 0; f < s.fixed.size(); ++f) {
         long count = 0;
@@ -71,8 +67,7 @@ std::vector<std::uint8_t> fixed_dofs_from_scene(const scene::Scene& s, const mes
     return mask;
 }
 
-VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m)
-{
+VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m) {
     VecX f = VecX::Zero(3 * m.num_nodes());
     for (std::size_t i = 0; i < s.loads.forces.size(); ++i) {
         const scene::Force& force = s.loads.forces[i];
@@ -113,7 +108,8 @@ VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m)
             }
         }
         if (!(total > 0))
-            throw SceneError(where, "selects no node (or no boundary face for \"area\") of the mesh");
+            throw SceneError(
+                where, "selects no node (or no boundary face for \"area\") of the mesh");
         for (std::size_t n = 0; n < m.rest.size(); ++n)
             if (weight[n] > 0)
                 f.segment<3>(3 * Index(n)) += force.force * (weight[n] / total);
@@ -125,11 +121,10 @@ VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m)
 
 namespace polycut::sim {
 
-integrate::IntegratorOptions integrator_options(const scene::Scene& s)
-{
+integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     integrate::IntegratorOptions o;
     const auto& it = s.integrator;
-    o.kind = it.type == "static"     ? integrate::IntegratorKind::Static
+    o.kind = it.type == "static"      ? integrate::IntegratorKind::Static
         : it.type == "implicit_euler" ? integrate::IntegratorKind::ImplicitEuler
                                       : integrate::IntegratorKind::SemiImplicitEuler;
     o.dt = it.dt;
@@ -141,7 +136,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s)
     o.static_max_iterations = it.max_iterations;
     o.gravity = s.loads.gravity;
     const auto& sv = s.solver;
-    o.solver.kind = sv.type == "cholmod"        ? integrate::LinearSolverKind::Cholmod
+    o.solver.kind = sv.type == "cholmod"         ? integrate::LinearSolverKind::Cholmod
         : sv.type == "cg_relaxation"             ? integrate::LinearSolverKind::CgRelaxation
         : sv.preconditioner == "block_jacobi"    ? integrate::LinearSolverKind::PcgBlockJacobi
         : sv.preconditioner == "lagged_cholesky" ? integrate::LinearSolverKind::PcgLagged

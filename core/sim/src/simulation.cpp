@@ -1,6 +1,5 @@
 // sim::Simulation: construction from a scene, stepping, forces and grabs.
 #include "impl.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/polygon.hpp"
@@ -12,8 +11,7 @@
 namespace polycut::sim {
 
 Simulation::Simulation(scene::Scene scene)
-    : m_impl(std::make_unique<Impl>())
-{
+    : m_impl(std::make_unique<Impl>()) {
     m_impl->scene = std::move(scene);
     m_impl->initial_mesh = build_mesh(m_impl->scene);
     m_impl->build();
@@ -21,13 +19,20 @@ Simulation::Simulation(scene::Scene scene)
 
 Simulation::~Simulation() = default;
 
-const scene::Scene& Simulation::scene() const { return m_impl->scene; }
-long Simulation::tick() const { return m_impl->tick; }
-double Simulation::time() const { return m_impl->time; }
-bool Simulation::is_static() const { return m_impl->scene.integrator.type == "static"; }
+const scene::Scene& Simulation::scene() const {
+    return m_impl->scene;
+}
+long Simulation::tick() const {
+    return m_impl->tick;
+}
+double Simulation::time() const {
+    return m_impl->time;
+}
+bool Simulation::is_static() const {
+    return m_impl->scene.integrator.type == "static";
+}
 
-void Simulation::Impl::build()
-{
+void Simulation::Impl::build() {
     mesh = initial_mesh;
     node_fixed_mask = fixed_dofs_from_scene(scene, mesh);
     scene_forces = scene_loads(scene, mesh);
@@ -46,27 +51,23 @@ void Simulation::Impl::build()
     refresh_topology();
 }
 
-void Simulation::reset()
-{
+void Simulation::reset() {
     m_impl->build();
     ++m_impl->topology_version;
 }
 
-void Simulation::Impl::sync_positions()
-{
+void Simulation::Impl::sync_positions() {
     positions.resize(std::size_t(state.x.rows()));
     for (Index i = 0; i < Index(state.x.rows()); ++i)
         positions[std::size_t(i)] = state.x.row(i).transpose();
 }
 
-void Simulation::Impl::refresh_topology()
-{
+void Simulation::Impl::refresh_topology() {
     topology = surface::extract_topology(mesh);
     ++topology_version;
 }
 
-NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const
-{
+NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const {
     // Hat kernel over the nodes within `radius` of p in the current configuration; the nearest
     // node alone when none lies within. Only nodes that belong to a cell are picked.
     NodeWeights out;
@@ -99,8 +100,7 @@ NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const
     return out;
 }
 
-void Simulation::Impl::assemble_external(double sim_time)
-{
+void Simulation::Impl::assemble_external(double sim_time) {
     f_ext = scene_forces;
     for (auto it = forces.begin(); it != forces.end();) {
         if (it->second.expires > 0 && sim_time > it->second.expires + 1e-12) {
@@ -125,8 +125,7 @@ void Simulation::Impl::assemble_external(double sim_time)
     }
 }
 
-StepReport Simulation::step()
-{
+StepReport Simulation::step() {
     Impl& s = *m_impl;
     Stopwatch watch;
     StepReport r;
@@ -162,20 +161,17 @@ StepReport Simulation::step()
 }
 
 namespace {
-    void require_finite(const Vec3& v, const char* what)
-    {
-        if (!v.allFinite())
-            throw InputError(what, "must be finite");
-    }
-    void require_positive(double x, const char* what)
-    {
-        if (!std::isfinite(x) || !(x > 0))
-            throw InputError(what, "must be a finite number > 0");
-    }
+void require_finite(const Vec3& v, const char* what) {
+    if (!v.allFinite())
+        throw InputError(what, "must be finite");
+}
+void require_positive(double x, const char* what) {
+    if (!std::isfinite(x) || !(x > 0))
+        throw InputError(what, "must be a finite number > 0");
+}
 } // namespace
 
-long Simulation::add_force(const ForceSpec& f)
-{
+long Simulation::add_force(const ForceSpec& f) {
     require_finite(f.point, "point");
     require_finite(f.force, "force");
     require_positive(f.radius, "radius");
@@ -192,14 +188,12 @@ long Simulation::add_force(const ForceSpec& f)
     return id;
 }
 
-bool Simulation::remove_force(long id)
-{
+bool Simulation::remove_force(long id) {
     m_impl->static_solved = false;
     return m_impl->forces.erase(id) > 0;
 }
 
-long Simulation::grab(const GrabSpec& g)
-{
+long Simulation::grab(const GrabSpec& g) {
     require_finite(g.point, "point");
     require_positive(g.stiffness, "stiffness");
     require_positive(g.radius, "radius");
@@ -216,8 +210,7 @@ long Simulation::grab(const GrabSpec& g)
     return id;
 }
 
-bool Simulation::move_grab(long id, const Vec3& target)
-{
+bool Simulation::move_grab(long id, const Vec3& target) {
     require_finite(target, "target");
     auto it = m_impl->grabs.find(id);
     if (it == m_impl->grabs.end())
@@ -227,8 +220,7 @@ bool Simulation::move_grab(long id, const Vec3& target)
     return true;
 }
 
-bool Simulation::release(long id)
-{
+bool Simulation::release(long id) {
     m_impl->static_solved = false;
     return m_impl->grabs.erase(id) > 0;
 }

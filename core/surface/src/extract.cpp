@@ -6,8 +6,7 @@
 
 namespace polycut::surface {
 
-Topology extract_topology(const mesh::Mesh& mesh)
-{
+Topology extract_topology(const mesh::Mesh& mesh) {
     Topology topo;
     std::vector<Index> vertex_of(mesh.rest.size(), kNone);
     auto vertex = [&](Index node) {
@@ -23,7 +22,8 @@ Topology extract_topology(const mesh::Mesh& mesh)
         if (!face.boundary())
             continue;
         const auto& loop = face.nodes; // outward for the owner, the only cell of a boundary face
-        const std::uint8_t tag = std::uint8_t(face.tag == mesh::FaceTag::Cut ? Tag::Cut : Tag::Skin);
+        const std::uint8_t tag
+            = std::uint8_t(face.tag == mesh::FaceTag::Cut ? Tag::Cut : Tag::Skin);
         const Vec3& a = mesh.rest[std::size_t(loop[0])];
         const double scale = geometry::polygon_area(geometry::gather(mesh.rest, loop));
         for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
@@ -41,9 +41,8 @@ Topology extract_topology(const mesh::Mesh& mesh)
     return topo;
 }
 
-void gather_positions(const Topology& topo, const std::vector<Vec3>& node_positions,
-    std::vector<float>& out)
-{
+void gather_positions(
+    const Topology& topo, const std::vector<Vec3>& node_positions, std::vector<float>& out) {
     out.resize(topo.vertex_nodes.size() * 3);
     for (std::size_t v = 0; v < topo.vertex_nodes.size(); ++v) {
         const Vec3& p = node_positions[std::size_t(topo.vertex_nodes[v])];
@@ -53,8 +52,7 @@ void gather_positions(const Topology& topo, const std::vector<Vec3>& node_positi
     }
 }
 
-bool is_closed_oriented(const Topology& topo)
-{
+bool is_closed_oriented(const Topology& topo) {
     // Directed edge counts: each directed edge once, and its reverse once.
     std::unordered_map<std::uint64_t, int> directed;
     auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };

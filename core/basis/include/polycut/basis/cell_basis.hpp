@@ -17,9 +17,10 @@ enum class PolyRule { Heuristic, Reference, MonteCarlo };
 /// Options of the per-cell bases.
 struct BasisOptions {
     PolyBasis poly = PolyBasis::MeanValue; ///< basis of general polyhedra
-    PolyRule rule = PolyRule::Heuristic;   ///< quadrature of general polyhedra
-    int gauss_degree = 2;                  ///< degree of the tet rule inside PolyRule::Reference
-    double harmonic_xi = 0.1;              ///< MFS source offset of the harmonic basis (001), relative to the cell size
+    PolyRule rule = PolyRule::Heuristic; ///< quadrature of general polyhedra
+    int gauss_degree = 2; ///< degree of the tet rule inside PolyRule::Reference
+    double harmonic_xi
+        = 0.1; ///< MFS source offset of the harmonic basis (001), relative to the cell size
 };
 
 /// Integration data of cell `cell` of `mesh` in rest space: P1 for tets (exact, 1 point), Q1 for

@@ -13,11 +13,11 @@ namespace polycut::cut {
 /// Where a new node came from.
 struct NodeOrigin {
     enum class Kind : std::uint8_t {
-        Edge,      ///< on an edge where a plane crossed it
-        Pocket,    ///< at the centroid of a cut face (000 sec. 5.2)
+        Edge, ///< on an edge where a plane crossed it
+        Pocket, ///< at the centroid of a cut face (000 sec. 5.2)
         Duplicate, ///< a copy of a node separated by the cut
     };
-    Index node = kNone;        ///< the new node's id
+    Index node = kNone; ///< the new node's id
     Kind kind = Kind::Edge;
     Index parent_cell = kNone; ///< a cell (id after the call) whose interpolant covers the node
     /// Interpolation weights over nodes that existed before the call (ids < nodes_before); they
@@ -28,7 +28,7 @@ struct NodeOrigin {
 
 /// A cell made by the call.
 struct CellOrigin {
-    Index cell = kNone;   ///< new cell id
+    Index cell = kNone; ///< new cell id
     Index parent = kNone; ///< cell it was split from (id before the call)
 };
 
@@ -38,22 +38,22 @@ struct CutReport {
     Index nodes_before = 0, nodes_after = 0; ///< node counts
     Index cells_before = 0, cells_after = 0; ///< cell counts
     double volume_before = 0, volume_after = 0; ///< total rest volume [m^3]
-    std::vector<NodeOrigin> new_nodes;           ///< in creation order, ids nodes_before...
+    std::vector<NodeOrigin> new_nodes; ///< in creation order, ids nodes_before...
     std::vector<std::pair<Index, Index>> duplicated; ///< (original node, copy)
-    std::vector<CellOrigin> new_cells;           ///< cells appended by splits
+    std::vector<CellOrigin> new_cells; ///< cells appended by splits
     /// Cells whose nodes, faces or geometry changed (ids after the call, sorted): they need a new
     /// basis, quadrature and Ke, once, at the end of the tick (000 sec. 5.1). Includes new cells.
     std::vector<Index> changed_cells;
     /// Old cell id -> new id (kNone if merged away); empty when no cell was removed.
     std::vector<Index> cell_map;
     std::vector<Index> removed_cells; ///< old ids of cells merged away by sliver removal
-    std::vector<Index> cut_faces;     ///< faces tagged Cut by this call (both sides)
-    Index pockets = 0;                ///< pocket nodes inserted (each counted once per side)
-    Index slivers_merged = 0;         ///< cells removed by sliver merging
-    Index cells_skipped = 0;          ///< crossed cells left unsplit (degenerate configuration)
-    Index triangles = 0;              ///< sweep triangles processed
-    Index triangles_missed = 0;       ///< triangles that touched no cell (no change)
-    bool topology_changed = false;    ///< any node, face or cell changed
+    std::vector<Index> cut_faces; ///< faces tagged Cut by this call (both sides)
+    Index pockets = 0; ///< pocket nodes inserted (each counted once per side)
+    Index slivers_merged = 0; ///< cells removed by sliver merging
+    Index cells_skipped = 0; ///< crossed cells left unsplit (degenerate configuration)
+    Index triangles = 0; ///< sweep triangles processed
+    Index triangles_missed = 0; ///< triangles that touched no cell (no change)
+    bool topology_changed = false; ///< any node, face or cell changed
     /// The stiffness sparsity pattern changed (new nodes or new node pairs in a cell); the solver
     /// must re-analyse.
     bool pattern_changed = false;

@@ -36,8 +36,8 @@ public:
     /// Splits cells crossed by the plane through `point` with normal `normal` [rest space] into
     /// two convex cells each, without separating anything. `cells` lists the cells to split (all
     /// cells the plane crosses if empty). Throws InputError on a non-finite or zero normal.
-    CutReport split_by_plane(const Vec3& point, const Vec3& normal,
-        std::span<const Index> cells = {});
+    CutReport split_by_plane(
+        const Vec3& point, const Vec3& normal, std::span<const Index> cells = {});
 
     /// Recomputes the adjacency after external edits of the mesh.
     void rebuild();
@@ -51,7 +51,7 @@ private:
 };
 
 /// One-off convenience: cuts `mesh` along rest-space sweep triangles (builds a Cutter, O(mesh)).
-CutReport cut_rest(mesh::Mesh& mesh, std::span<const Triangle> rest_triangles,
-    const CutOptions& options = {});
+CutReport cut_rest(
+    mesh::Mesh& mesh, std::span<const Triangle> rest_triangles, const CutOptions& options = {});
 
 } // namespace polycut::cut

@@ -11,7 +11,7 @@ namespace polycut::cut {
 
 /// Tolerances of check_cut_invariants (relative, dimensionless).
 struct InvariantOptions {
-    double volume_tol = 1e-9;  ///< |V - V_before| <= volume_tol * V_before
+    double volume_tol = 1e-9; ///< |V - V_before| <= volume_tol * V_before
     /// A cell is convex when no node lies farther than convex_tol * (cell bounding-box diagonal)
     /// outside any of its face planes (snapping leaves interface faces up to CutOptions::snap
     /// times the cell thickness off their plane).
@@ -24,23 +24,23 @@ struct InvariantOptions {
 /// What check_cut_invariants measured.
 struct CutInvariants {
     double volume_before = 0, volume = 0; ///< total rest volume [m^3]
-    double volume_error = 0;              ///< |V - V_before| / V_before
+    double volume_error = 0; ///< |V - V_before| / V_before
     Index cells = 0, nodes = 0;
-    Index nonpositive_cells = 0;          ///< cells of rest volume <= 0
-    double min_volume_ratio = 0;          ///< smallest cell volume / largest cell volume
-    Index nonconvex_cells = 0;            ///< cells violating convex_tol
-    double max_convexity_violation = 0;   ///< largest violation / cell diagonal
-    bool finite = true;                   ///< every rest coordinate finite
-    Index mesh_issues = 0;                ///< defects mesh::check_mesh found (adjacency, shape...)
-    bool surface_closed = false;          ///< boundary closed and oriented (check_boundary_surface)
-    Index surface_components = 0;         ///< connected components of the boundary surface
-    Index components = 0;                 ///< connected components of cells (shared nodes)
-    std::string first_problem;            ///< description of the first failure, empty if ok
+    Index nonpositive_cells = 0; ///< cells of rest volume <= 0
+    double min_volume_ratio = 0; ///< smallest cell volume / largest cell volume
+    Index nonconvex_cells = 0; ///< cells violating convex_tol
+    double max_convexity_violation = 0; ///< largest violation / cell diagonal
+    bool finite = true; ///< every rest coordinate finite
+    Index mesh_issues = 0; ///< defects mesh::check_mesh found (adjacency, shape...)
+    bool surface_closed = false; ///< boundary closed and oriented (check_boundary_surface)
+    Index surface_components = 0; ///< connected components of the boundary surface
+    Index components = 0; ///< connected components of cells (shared nodes)
+    std::string first_problem; ///< description of the first failure, empty if ok
     bool ok() const { return first_problem.empty(); }
 };
 
 /// Checks every invariant; O(mesh). `volume_before` is the total rest volume before the cuts.
-CutInvariants check_cut_invariants(const mesh::Mesh& mesh, double volume_before,
-    const InvariantOptions& options = {});
+CutInvariants check_cut_invariants(
+    const mesh::Mesh& mesh, double volume_before, const InvariantOptions& options = {});
 
 } // namespace polycut::cut

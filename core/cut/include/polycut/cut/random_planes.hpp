@@ -23,7 +23,7 @@ struct RandomPlanesOptions {
 
 /// Splits a copy of `mesh` (any convex cells, e.g. mesh::hex_grid) by `planes` random planes
 /// from a fixed `seed`; deterministic.
-mesh::Mesh split_by_random_planes(const mesh::Mesh& mesh, int planes, unsigned seed,
-    const RandomPlanesOptions& options = {});
+mesh::Mesh split_by_random_planes(
+    const mesh::Mesh& mesh, int planes, unsigned seed, const RandomPlanesOptions& options = {});
 
 } // namespace polycut::cut

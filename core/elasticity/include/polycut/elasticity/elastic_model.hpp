@@ -18,7 +18,7 @@ namespace polycut::elasticity {
 
 /// How elastic forces and stiffness are evaluated.
 enum class ForceMode {
-    Linear,    ///< small-strain linear elasticity, K constant
+    Linear, ///< small-strain linear elasticity, K constant
     Corotated, ///< per-cell rotation from the affine fit's polar decomposition
 };
 
@@ -51,7 +51,9 @@ public:
     /// Value slot in the CSC arrays of the diagonal entry of each reduced DOF (#free).
     const std::vector<Index>& diagonal_slots() const { return m_diag_slots; }
     /// Cached integration data and stiffness of a cell.
-    const basis::CellIntegration& cell_integration(Index c) const { return m_cells[std::size_t(c)].integration; }
+    const basis::CellIntegration& cell_integration(Index c) const {
+        return m_cells[std::size_t(c)].integration;
+    }
     Eigen::Map<const MatX> cell_stiffness(Index c) const;
     /// Current rotation of a cell (identity until a corotated assembly).
     const Mat3& cell_rotation(Index c) const { return m_rotation[std::size_t(c)]; }
@@ -90,18 +92,18 @@ private:
     struct CellData {
         basis::CellIntegration integration;
         std::vector<Index> nodes; ///< copy of the mesh cell's nodes when the data was built
-        MatX stiffness;           ///< Ke (3n x 3n)
-        MatX3 fit;                ///< fit gradients G (n x 3)
-        MatX3 rest_local;         ///< X_i - X_c (n x 3)
+        MatX stiffness; ///< Ke (3n x 3n)
+        MatX3 fit; ///< fit gradients G (n x 3)
+        MatX3 rest_local; ///< X_i - X_c (n x 3)
     };
     /// Compact data of a one-point 4-node cell (P1 tet) for the closed-form corotated kernel:
     /// blocks R Ke_ij R^T = V (lambda r_i r_j^T + mu r_j r_i^T + mu g_i.g_j I), r_i = R g_i.
     struct P1Cell {
         bool valid = false;
         Index nodes[4] = { 0, 0, 0, 0 };
-        double g[4][3] = {};  ///< P1 gradients [1/m]
+        double g[4][3] = {}; ///< P1 gradients [1/m]
         double c0[3][3] = {}; ///< sum_j (X_j - X_c) g_j^T (the identity up to round-off)
-        double volume = 0;    ///< quadrature weight [m^3]
+        double volume = 0; ///< quadrature weight [m^3]
     };
     void compute_cell(Index c);
     void rebuild_mass();

@@ -44,7 +44,8 @@ private:
     // Work arrays, reused between steps.
     solve::SparseMatrix m_K, m_A;
     VecX m_fint, m_fint_r, m_fext_r, m_v_r, m_rhs, m_dv, m_tmp, m_full;
-    VecX m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
+    VecX
+        m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
     State m_backup;
 };
 

@@ -2,8 +2,8 @@
 #pragma once
 
 #include "polycut/integrate/options.hpp"
-#include "polycut/solve/cholmod_solver.hpp"
 #include "polycut/solve/cg_relaxation.hpp"
+#include "polycut/solve/cholmod_solver.hpp"
 #include "polycut/solve/pcg.hpp"
 
 namespace polycut::integrate {

@@ -12,24 +12,24 @@ namespace polycut::integrate {
 
 /// Which time integrator a step runs.
 enum class IntegratorKind {
-    Static,           ///< equilibrium under the current loads (no inertia)
-    ImplicitEuler,    ///< backward Euler linearized once per step (DESIGN.md sec. 4)
+    Static, ///< equilibrium under the current loads (no inertia)
+    ImplicitEuler, ///< backward Euler linearized once per step (DESIGN.md sec. 4)
     SemiImplicitEuler ///< symplectic Euler: v += h M^-1 f(x, v), x += h v (001, 003)
 };
 
 /// How a static step reaches equilibrium.
 enum class StaticMode {
-    Linear,              ///< one solve with the rest stiffness (small strains)
+    Linear, ///< one solve with the rest stiffness (small strains)
     CorotatedFixedPoint, ///< K_R(x_k) x_{k+1} = f_ext + rotated rest forces (warped stiffness)
-    CorotatedNewton,     ///< quasi-Newton with tangent K_R (dR/dx neglected) + backtracking
+    CorotatedNewton, ///< quasi-Newton with tangent K_R (dR/dx neglected) + backtracking
 };
 
 /// Linear solver of the implicit systems.
 enum class LinearSolverKind {
-    Cholmod,        ///< CHOLMOD LL^T, refactored at every solve
-    PcgJacobi,      ///< PCG, Jacobi preconditioner, warm-started
+    Cholmod, ///< CHOLMOD LL^T, refactored at every solve
+    PcgJacobi, ///< PCG, Jacobi preconditioner, warm-started
     PcgBlockJacobi, ///< PCG, 3x3 block-Jacobi preconditioner, warm-started
-    PcgLagged,      ///< PCG preconditioned by a lagged CHOLMOD factor
+    PcgLagged, ///< PCG preconditioned by a lagged CHOLMOD factor
     PcgIncompleteCholesky, ///< PCG preconditioned by a lagged incomplete Cholesky factor
     /// Unpreconditioned CG relaxation of seed 002 sec. 3.1 (fixed DOFs eliminated; stops at
     /// ||r|| < tol ||b||), warm-started; the solver Nienhuys' static cutting simulator used.
@@ -40,18 +40,18 @@ enum class LinearSolverKind {
 struct SolverOptions {
     LinearSolverKind kind = LinearSolverKind::PcgJacobi;
     double relative_tolerance = 1e-6; ///< PCG: stop at ||r|| <= tol ||b||
-    int max_iterations = 2000;        ///< PCG iteration limit
-    int refactor_every = 0;           ///< PcgLagged: refactor every k solves (0 = on demand)
-    int refactor_iterations = 50;     ///< PcgLagged: refactor when a solve took more
+    int max_iterations = 2000; ///< PCG iteration limit
+    int refactor_every = 0; ///< PcgLagged: refactor every k solves (0 = on demand)
+    int refactor_iterations = 50; ///< PcgLagged: refactor when a solve took more
     bool background_refactor = false; ///< PcgLagged: refactor on a worker thread
 };
 
 /// Integrator settings.
 struct IntegratorOptions {
     IntegratorKind kind = IntegratorKind::ImplicitEuler;
-    double dt = 0.01;                                             ///< time step h [s]
+    double dt = 0.01; ///< time step h [s]
     elasticity::ForceMode force_mode = elasticity::ForceMode::Corotated; ///< dynamics
-    StaticMode static_mode = StaticMode::CorotatedNewton;        ///< Static only
+    StaticMode static_mode = StaticMode::CorotatedNewton; ///< Static only
     double static_tolerance = 1e-8; ///< Static: stop at ||r|| <= tol ||f_ext|| (dimensionless)
     int static_max_iterations = 100;
     Vec3 gravity = Vec3::Zero(); ///< [m/s^2]
@@ -73,11 +73,11 @@ struct State {
 
 /// What a step did. step() never throws; problems are listed in `warnings`.
 struct StepReport {
-    double step_ms = 0;     ///< wall time of the step [ms]
+    double step_ms = 0; ///< wall time of the step [ms]
     double assembly_ms = 0; ///< of which assembly of K and f [ms]
-    double solve_ms = 0;    ///< of which linear solves [ms]
+    double solve_ms = 0; ///< of which linear solves [ms]
     int solver_iterations = 0; ///< PCG iterations (summed over Newton iterations)
-    double residual = 0;    ///< relative residual of the last linear solve (static: of equilibrium)
+    double residual = 0; ///< relative residual of the last linear solve (static: of equilibrium)
     int newton_iterations = 0; ///< static: nonlinear iterations
     solve::SolveStatus status = solve::SolveStatus::Ok;
     std::vector<std::string> warnings;

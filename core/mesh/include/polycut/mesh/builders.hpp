@@ -7,15 +7,15 @@ namespace polycut::mesh {
 
 /// A box [lo, hi] divided into cells.x * cells.y * cells.z hexahedral blocks.
 struct BoxGrid {
-    Vec3 lo = Vec3::Zero();          ///< min corner [m]
-    Vec3 hi = Vec3::Ones();          ///< max corner [m]
+    Vec3 lo = Vec3::Zero(); ///< min corner [m]
+    Vec3 hi = Vec3::Ones(); ///< max corner [m]
     Eigen::Vector3i cells { 1, 1, 1 }; ///< blocks along x, y, z (each >= 1)
 };
 
 /// How a hexahedral block is split into tetrahedra.
 enum class TetSplit {
     Kuhn6, ///< 6 tets around the main diagonal (node 0 to node 6); conforming across blocks
-    Five,  ///< 5 tets, alternating orientation by block parity so faces conform
+    Five, ///< 5 tets, alternating orientation by block parity so faces conform
 };
 
 /// Grid nodes are numbered i + (nx+1) (j + (ny+1) k).
@@ -23,8 +23,7 @@ Mesh hex_grid(const BoxGrid& grid);
 Mesh tet_grid(const BoxGrid& grid, TetSplit split = TetSplit::Kuhn6);
 
 /// Node index of grid point (i, j, k).
-inline Index grid_node(const BoxGrid& g, int i, int j, int k)
-{
+inline Index grid_node(const BoxGrid& g, int i, int j, int k) {
     return Index(i + (g.cells.x() + 1) * (j + (g.cells.y() + 1) * k));
 }
 

@@ -16,56 +16,56 @@ struct Geometry {
     enum class Kind { Box, Implicit, SurfaceFile, MeshFile, RandomPlanes };
     Kind kind = Kind::Box;
     // Box and RandomPlanes
-    Vec3 origin = Vec3::Zero();          ///< min corner [m]
-    Vec3 size = Vec3::Constant(0.1);     ///< edge lengths [m]
-    Eigen::Vector3i cells { 4, 4, 4 };   ///< blocks along x, y, z
-    std::string elements = "tet";        ///< "tet" (split blocks) or "hex"
-    std::string tet_split = "kuhn6";     ///< "kuhn6" or "five"
-    int planes_per_cell = 0;             ///< RandomPlanes: random planes cutting each block
-    unsigned seed = 1;                   ///< RandomPlanes and meshing: random seed
+    Vec3 origin = Vec3::Zero(); ///< min corner [m]
+    Vec3 size = Vec3::Constant(0.1); ///< edge lengths [m]
+    Eigen::Vector3i cells { 4, 4, 4 }; ///< blocks along x, y, z
+    std::string elements = "tet"; ///< "tet" (split blocks) or "hex"
+    std::string tet_split = "kuhn6"; ///< "kuhn6" or "five"
+    int planes_per_cell = 0; ///< RandomPlanes: random planes cutting each block
+    unsigned seed = 1; ///< RandomPlanes and meshing: random seed
     // Implicit
-    std::string shape;                   ///< "sphere", "ellipsoid", "capsule", "blob"
-    Vec3 center = Vec3::Zero();          ///< [m]
-    Vec3 radii = Vec3::Constant(0.05);   ///< semi-axes [m] (sphere: radii.x())
-    double length = 0.1;                 ///< capsule segment length [m]
+    std::string shape; ///< "sphere", "ellipsoid", "capsule", "blob"
+    Vec3 center = Vec3::Zero(); ///< [m]
+    Vec3 radii = Vec3::Constant(0.05); ///< semi-axes [m] (sphere: radii.x())
+    double length = 0.1; ///< capsule segment length [m]
     // Implicit and SurfaceFile
-    double cell_size = 0.01;             ///< target tet size [m]
+    double cell_size = 0.01; ///< target tet size [m]
     // SurfaceFile and MeshFile
-    std::string path;                    ///< resolved against the scene file's directory
-    double scale = 1.0;                  ///< file units to metres
+    std::string path; ///< resolved against the scene file's directory
+    double scale = 1.0; ///< file units to metres
 };
 
 /// Isotropic Hookean material with Rayleigh damping D = alpha M + beta K.
 struct Material {
-    double youngs_modulus = 1e4;   ///< E [Pa]
-    double poisson_ratio = 0.45;   ///< nu, in [0, 0.5)
-    double density = 1000;         ///< rho [kg/m^3]
-    double rayleigh_mass = 0;      ///< alpha [1/s]
+    double youngs_modulus = 1e4; ///< E [Pa]
+    double poisson_ratio = 0.45; ///< nu, in [0, 0.5)
+    double density = 1000; ///< rho [kg/m^3]
+    double rayleigh_mass = 0; ///< alpha [1/s]
     double rayleigh_stiffness = 0; ///< beta [s]
 };
 
 /// Polyhedral basis options (methods mvc and harmonic).
 struct Basis {
     std::string rule = "heuristic"; ///< mvc: "heuristic" (000 eq. 14-16) or "reference"
-    int gauss_degree = 2;           ///< degree of the Gauss rule on the centroid tetrahedralization
-    double harmonic_xi = 0.1;       ///< 001 eq. 12 kernel offset, relative to cell size
+    int gauss_degree = 2; ///< degree of the Gauss rule on the centroid tetrahedralization
+    double harmonic_xi = 0.1; ///< 001 eq. 12 kernel offset, relative to cell size
 };
 
 struct Integrator {
     std::string type = "implicit_euler"; ///< "static", "implicit_euler", "semi_implicit_euler"
-    double dt = 0.01;                    ///< time step [s]
-    bool corotated = true;               ///< corotational (true) or linear elasticity
-    std::string static_mode = "newton";  ///< static + corotated: "newton" or "fixed_point"
-    double tolerance = 1e-8;             ///< static: stop at ||r|| <= tol ||f_ext||
-    int max_iterations = 100;            ///< static: outer iterations
+    double dt = 0.01; ///< time step [s]
+    bool corotated = true; ///< corotational (true) or linear elasticity
+    std::string static_mode = "newton"; ///< static + corotated: "newton" or "fixed_point"
+    double tolerance = 1e-8; ///< static: stop at ||r|| <= tol ||f_ext||
+    int max_iterations = 100; ///< static: outer iterations
 };
 
 struct Solver {
-    std::string type = "pcg";                ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
-    std::string preconditioner = "jacobi";   ///< pcg: "jacobi", "block_jacobi", "lagged_cholesky"
-    double tolerance = 1e-6;                 ///< relative residual
+    std::string type = "pcg"; ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
+    std::string preconditioner = "jacobi"; ///< pcg: "jacobi", "block_jacobi", "lagged_cholesky"
+    double tolerance = 1e-6; ///< relative residual
     int max_iterations = 2000;
-    int refactor_every = 0;                  ///< lagged_cholesky: refactor every k solves (0 = on demand)
+    int refactor_every = 0; ///< lagged_cholesky: refactor every k solves (0 = on demand)
 };
 
 /// Selects nodes by rest position.
@@ -73,9 +73,9 @@ struct Selector {
     enum class Kind { Box, Plane };
     Kind kind = Kind::Box;
     Vec3 min = Vec3::Zero(), max = Vec3::Zero(); ///< Box [m]
-    Vec3 point = Vec3::Zero();                   ///< Plane: a point on it [m]
-    Vec3 normal = Vec3::UnitX();                 ///< Plane: normal (normalized on load)
-    double tolerance = 1e-9;                     ///< Plane: distance [m]; Box: padding [m]
+    Vec3 point = Vec3::Zero(); ///< Plane: a point on it [m]
+    Vec3 normal = Vec3::UnitX(); ///< Plane: normal (normalized on load)
+    double tolerance = 1e-9; ///< Plane: distance [m]; Box: padding [m]
 };
 
 /// Fixed nodes: all three displacement components, or a subset ("x", "yz", ...).
@@ -89,11 +89,11 @@ struct Fixed {
 struct Force {
     enum class Kind { Point, Region };
     Kind kind = Kind::Point;
-    Vec3 point = Vec3::Zero();     ///< Point: rest-space location [m]
-    std::string probe;             ///< Point: name of a probe instead of `point`
-    Selector region;               ///< Region
+    Vec3 point = Vec3::Zero(); ///< Point: rest-space location [m]
+    std::string probe; ///< Point: name of a probe instead of `point`
+    Selector region; ///< Region
     std::string distribution = "area"; ///< Region: "area" or "uniform"
-    Vec3 force = Vec3::Zero();     ///< total force [N]
+    Vec3 force = Vec3::Zero(); ///< total force [N]
 };
 
 struct Loads {
@@ -108,14 +108,15 @@ struct Probe {
 
 /// A scalpel sweep applied at a given tick (headless cut scenes).
 struct Sweep {
-    long tick = 0;                                   ///< tick at which it arrives
-    std::vector<std::array<Vec3, 3>> triangles;      ///< world-space sweep triangles [m]
+    long tick = 0; ///< tick at which it arrives
+    std::vector<std::array<Vec3, 3>> triangles; ///< world-space sweep triangles [m]
 };
 
 struct Cutting {
-    std::string method = "split";   ///< "split" (cell splitting, 000 sec. 5; default except for tet) or "snap" (face snapping, 002; default for tet)
-    double snap_distance = 1e-3;     ///< node snapping distance, relative to the local cell thickness
-    double sliver_volume = 1e-3;     ///< cells below this fraction of their parent are merged
+    std::string method = "split"; ///< "split" (cell splitting, 000 sec. 5; default except for tet)
+                                  ///< or "snap" (face snapping, 002; default for tet)
+    double snap_distance = 1e-3; ///< node snapping distance, relative to the local cell thickness
+    double sliver_volume = 1e-3; ///< cells below this fraction of their parent are merged
     std::vector<Sweep> sweeps;
 };
 
@@ -126,7 +127,7 @@ struct Camera {
 };
 
 struct Output {
-    long steps = 100;    ///< dynamic scenes: default number of steps for the runner
+    long steps = 100; ///< dynamic scenes: default number of steps for the runner
     long vtu_every = 10; ///< write every k-th frame with --vtu
 };
 
@@ -134,7 +135,7 @@ struct Output {
 struct Scene {
     std::string name;
     std::string description;
-    std::string directory;   ///< directory of the scene file (for relative paths); "" inline
+    std::string directory; ///< directory of the scene file (for relative paths); "" inline
     Geometry geometry;
     std::string method = "tet"; ///< "tet", "hex", "mvc", "harmonic" ("dg" not yet available)
     Basis basis;

@@ -16,17 +16,17 @@ namespace polycut::sim {
 
 /// What one tick did.
 struct StepReport {
-    long tick = 0;             ///< tick number after this step (first step -> 1)
-    double sim_time = 0;       ///< simulated time after this step [s]
-    double step_ms = 0;        ///< wall time of the whole step [ms]
-    double assembly_ms = 0;    ///< assembly of K and forces [ms]
-    double solve_ms = 0;       ///< linear solves [ms]
-    double cut_ms = 0;         ///< cuts applied at this tick, incl. cell set-up [ms]
+    long tick = 0; ///< tick number after this step (first step -> 1)
+    double sim_time = 0; ///< simulated time after this step [s]
+    double step_ms = 0; ///< wall time of the whole step [ms]
+    double assembly_ms = 0; ///< assembly of K and forces [ms]
+    double solve_ms = 0; ///< linear solves [ms]
+    double cut_ms = 0; ///< cuts applied at this tick, incl. cell set-up [ms]
     int solver_iterations = 0; ///< PCG iterations (0 for a direct solve)
     int newton_iterations = 0; ///< static scenes: outer iterations
-    double residual = 0;       ///< relative residual of the last solve
+    double residual = 0; ///< relative residual of the last solve
     bool topology_changed = false;
-    bool rolled_back = false;  ///< the step failed and the state was restored
+    bool rolled_back = false; ///< the step failed and the state was restored
     std::vector<std::string> warnings;
 };
 
@@ -34,23 +34,23 @@ struct StepReport {
 struct ForceSpec {
     Vec3 point = Vec3::Zero(); ///< world-space point [m]
     Vec3 force = Vec3::Zero(); ///< total force [N]
-    double radius = 0.005;     ///< [m]; the nearest node is used if none lies within
-    double duration = 0;       ///< [s]; 0 = until removed
+    double radius = 0.005; ///< [m]; the nearest node is used if none lies within
+    double duration = 0; ///< [s]; 0 = until removed
 };
 
 /// A grab: material points near `point` pulled toward `target` by a spring.
 struct GrabSpec {
     Vec3 point = Vec3::Zero(); ///< world-space point picked [m]
-    double stiffness = 50;     ///< spring stiffness [N/m]
-    double radius = 0.005;     ///< [m]
+    double stiffness = 50; ///< spring stiffness [N/m]
+    double radius = 0.005; ///< [m]
 };
 
 /// Surface for streaming and rendering.
 struct Surface {
     std::uint64_t topology_version = 0;
-    std::vector<float> positions;          ///< (#V x 3) world positions [m]
-    std::vector<std::uint32_t> triangles;  ///< (#T x 3)
-    std::vector<std::uint8_t> tags;        ///< (#T) 1 skin, 2 cut
+    std::vector<float> positions; ///< (#V x 3) world positions [m]
+    std::vector<std::uint32_t> triangles; ///< (#T x 3)
+    std::vector<std::uint8_t> tags; ///< (#T) 1 skin, 2 cut
 };
 
 /// What a cut did.

@@ -14,10 +14,10 @@ enum class Tag : std::uint8_t { Skin = 1, Cut = 2 };
 
 /// Boundary topology: which mesh nodes are surface vertices, and the triangles over them.
 struct Topology {
-    std::vector<Index> vertex_nodes;            ///< mesh node of each surface vertex (#V)
-    std::vector<std::uint32_t> triangles;       ///< (#T x 3) indices into the surface vertices
-    std::vector<std::uint8_t> tags;             ///< (#T) Tag per triangle
-    std::vector<Index> triangle_faces;          ///< (#T) mesh face each triangle comes from
+    std::vector<Index> vertex_nodes; ///< mesh node of each surface vertex (#V)
+    std::vector<std::uint32_t> triangles; ///< (#T x 3) indices into the surface vertices
+    std::vector<std::uint8_t> tags; ///< (#T) Tag per triangle
+    std::vector<Index> triangle_faces; ///< (#T) mesh face each triangle comes from
 };
 
 /// Triangulates every boundary face (a fan around its first node; boundary faces are convex
@@ -26,8 +26,8 @@ struct Topology {
 Topology extract_topology(const mesh::Mesh& mesh);
 
 /// Positions (#V x 3, float32) [m] of the surface vertices, from per-node world positions.
-void gather_positions(const Topology& topo, const std::vector<Vec3>& node_positions,
-    std::vector<float>& out);
+void gather_positions(
+    const Topology& topo, const std::vector<Vec3>& node_positions, std::vector<float>& out);
 
 /// True when every edge of the triangles is shared by exactly two triangles in opposite
 /// directions (closed, consistently oriented 2-manifold).
