@@ -1,7 +1,6 @@
 // sim::Simulation::cut: world-space sweep triangles to rest space, the cut itself, and the state
 // transfer that keeps new nodes where the material was (nothing pops, 000 sec. 5.1).
 #include "impl.hpp"
-
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/affine_fit.hpp"
@@ -11,17 +10,15 @@
 
 namespace polycut::sim {
 namespace {
-    geometry::Aabb triangle_box(const std::array<Vec3, 3>& t)
-    {
-        geometry::Aabb b;
-        for (const Vec3& p : t)
-            b.extend(p);
-        return b;
-    }
+geometry::Aabb triangle_box(const std::array<Vec3, 3>& t) {
+    geometry::Aabb b;
+    for (const Vec3& p : t)
+        b.extend(p);
+    return b;
+}
 } // namespace
 
-CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
-{
+CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     Impl& s = *m_impl;
     Stopwatch watch;
     CutSummary summary;
@@ -39,9 +36,11 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
             if (!world[t][k].allFinite())
                 throw InputError(where + "/" + std::to_string(k), "must be finite");
             if ((world[t][k] - tissue.center()).norm() > 1e3 * L)
-                throw InputError(where + "/" + std::to_string(k), "is absurdly far from the tissue");
+                throw InputError(
+                    where + "/" + std::to_string(k), "is absurdly far from the tissue");
         }
-        const double area = 0.5 * (world[t][1] - world[t][0]).cross(world[t][2] - world[t][0]).norm();
+        const double area
+            = 0.5 * (world[t][1] - world[t][0]).cross(world[t][2] - world[t][0]).norm();
         if (!(area > 1e-10 * L * L))
             throw InputError(where, "is degenerate (zero area)");
     }
@@ -67,7 +66,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
             for (Index n : s.mesh.cells[std::size_t(c)].nodes)
                 cb.extend(s.positions[std::size_t(n)]);
             if (cb.overlaps(tb))
-                nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(), s.mesh.cells[std::size_t(c)].nodes.end());
+                nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(),
+                    s.mesh.cells[std::size_t(c)].nodes.end());
         }
         if (nodes.size() < 4) {
             summary.triangles_applied += 0; // outside the tissue: nothing to cut
@@ -104,14 +104,12 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world)
     return summary;
 }
 
-void Simulation::end_stroke()
-{
+void Simulation::end_stroke() {
     if (m_impl->snap_cutter)
         m_impl->snap_cutter->end_sweep();
 }
 
-void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report)
-{
+void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     const Index n_old = report.nodes_before, n_new = report.nodes_after;
     // Surviving nodes keep their state (renumbered by node_map when the snap cutter compacted
     // nodes); new nodes take displacement and velocity from the material they came from.
@@ -122,7 +120,8 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report)
     state.v = MatX3::Zero(n_new, 3);
     node_fixed_mask.assign(3 * std::size_t(n_new), 0);
     scene_forces = VecX::Zero(3 * n_new);
-    auto new_id = [&](Index i) { return report.node_map.empty() ? i : report.node_map[std::size_t(i)]; };
+    auto new_id
+        = [&](Index i) { return report.node_map.empty() ? i : report.node_map[std::size_t(i)]; };
     for (Index i = 0; i < n_old; ++i) {
         const Index j = new_id(i);
         if (j == kNone)
@@ -160,13 +159,15 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report)
             x += w * x_old.row(n).transpose();
             v += w * v_old.row(n).transpose();
             for (int k = 0; k < 3; ++k)
-                fixed[std::size_t(k)] = fixed[std::size_t(k)] && fixed_old[3 * std::size_t(n) + std::size_t(k)];
+                fixed[std::size_t(k)]
+                    = fixed[std::size_t(k)] && fixed_old[3 * std::size_t(n) + std::size_t(k)];
         }
         state.x.row(o.node) = x.transpose();
         state.v.row(o.node) = v.transpose();
         // A node between fixed nodes (on a fixed face) is fixed too, per component.
         for (int k = 0; k < 3; ++k)
-            node_fixed_mask[3 * std::size_t(o.node) + std::size_t(k)] = o.weights.empty() ? 0 : fixed[std::size_t(k)];
+            node_fixed_mask[3 * std::size_t(o.node) + std::size_t(k)]
+                = o.weights.empty() ? 0 : fixed[std::size_t(k)];
     }
     // Nodes the snap cutter moved in rest space keep their displacement (the material point
     // moved by the snap distance, a fraction of a cell; 002 sec. 3.2.2 snaps in the reference
