@@ -54,8 +54,11 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         opt.sliver_volume = s.scene.cutting.sliver_volume;
         s.cutter = std::make_unique<cut::Cutter>(s.mesh, opt);
     }
-    // World to rest (DESIGN.md sec. 3): each triangle through the least-squares affine fit of the
-    // nodes of the cells whose deformed bounds it touches. Exact where the deformation is affine
+    // World to rest (DESIGN.md sec. 3): each triangle through ONE least-squares affine fit of the
+    // nodes of the cells whose deformed bounds it touches. cut::WorldToRest maps each corner
+    // through its own cell instead; for sweeps whose corners lie far outside the tissue that
+    // extrapolates from single boundary cells and tilts the plane (cut_slices merged its 1 mm
+    // slices), so the joint fit stays until WorldToRest clips triangles to the tissue first. Exact where the deformation is affine
     // over those cells (always at rest).
     std::vector<cut::Triangle> rest;
     for (const auto& tri : world) {
@@ -69,10 +72,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                 nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(),
                     s.mesh.cells[std::size_t(c)].nodes.end());
         }
-        if (nodes.size() < 4) {
-            summary.triangles_applied += 0; // outside the tissue: nothing to cut
-            continue;
-        }
+        if (nodes.size() < 4)
+            continue; // outside the tissue: nothing to cut
         std::vector<Vec3> X, x;
         for (Index n : nodes) {
             X.push_back(s.mesh.rest[std::size_t(n)]);
