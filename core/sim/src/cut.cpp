@@ -58,8 +58,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // nodes of the cells whose deformed bounds it touches. cut::WorldToRest maps each corner
     // through its own cell instead; for sweeps whose corners lie far outside the tissue that
     // extrapolates from single boundary cells and tilts the plane (cut_slices merged its 1 mm
-    // slices), so the joint fit stays until WorldToRest clips triangles to the tissue first. Exact where the deformation is affine
-    // over those cells (always at rest).
+    // slices), so the joint fit stays until WorldToRest clips triangles to the tissue first. Exact
+    // where the deformation is affine over those cells (always at rest).
     std::vector<cut::Triangle> rest;
     for (const auto& tri : world) {
         const geometry::Aabb tb = triangle_box(tri);
