@@ -1,5 +1,6 @@
-// Off-screen render throughput (issue 7 item 6): a ~50k-triangle surface at 640x480 with 4x MSAA
-// on llvmpipe, target 60 fps. Reports the median and p95 frame time [ms] over all iterations.
+// Off-screen render throughput (issue 7 item 6): a ~50k-triangle surface at 640x480 on llvmpipe,
+// target 60 fps. Reports the median and p95 wall frame time [ms] over all iterations and, side
+// by side, the process CPU time per frame over all threads (cpu_ms_per_frame).
 // Threads: llvmpipe uses LP_NUM_THREADS (default: one per core); compare
 //   LP_NUM_THREADS=1 ./bench_render   and   LP_NUM_THREADS=2 ./bench_render
 #include "polycut/common/stats.hpp"
@@ -76,14 +77,26 @@ void report(benchmark::State& state, const std::vector<double>& times_ms, std::s
     state.counters["triangles"] = double(triangles);
 }
 
+/// Settings of one benchmark configuration.
+struct Variant {
+    int msaa = 4;
+    bool wireframe = false;
+    bool cull = false;
+    bool profile = false;
+};
+
 /// Full frame: validation, shading normals, upload, draw, MSAA resolve and RGBA read-back.
-void render_frame(benchmark::State& state, int msaa, bool wireframe) {
+/// With `profile`, the renderer waits after each GL phase and the phase medians are reported
+/// as counters (a little slower in total than an unprofiled frame).
+void render_frame(benchmark::State& state, const Variant& variant) {
     const Blob& blob = blob_50k();
     RenderConfig config;
     config.width = 640;
     config.height = 480;
-    config.msaa_samples = msaa;
-    config.wireframe = wireframe;
+    config.msaa_samples = variant.msaa;
+    config.wireframe = variant.wireframe;
+    config.cull_back_faces = variant.cull;
+    config.profile = variant.profile;
     Renderer renderer(config);
     DrawList scene { blob.arrays(), {}, {}, {} };
     const auto [lo, hi] = bounds(blob.positions);
@@ -91,23 +104,43 @@ void render_frame(benchmark::State& state, int msaa, bool wireframe) {
     Image image;
     renderer.render(scene, camera, image); // warm-up: shader JIT, buffer allocation
     std::vector<double> times;
+    std::vector<std::vector<double>> phases(8);
     const double cpu_start = process_cpu_ms();
     for (auto _ : state) {
         Stopwatch watch;
         renderer.render(scene, camera, image);
         benchmark::DoNotOptimize(image.rgba.data());
         times.push_back(watch.ms());
+        const RenderTimings& t = renderer.timings();
+        const double values[8] = { t.validate_ms, t.normals_ms, t.fill_ms, t.upload_ms, t.submit_ms,
+            t.raster_ms, t.resolve_ms, t.read_ms };
+        for (int k = 0; k < 8; ++k)
+            phases[std::size_t(k)].push_back(values[k]);
     }
     report(state, times, blob.triangles.size() / 3, process_cpu_ms() - cpu_start);
+    if (variant.profile) {
+        const char* names[8] = { "validate_ms", "normals_ms", "fill_ms", "upload_ms", "submit_ms",
+            "raster_ms", "resolve_ms", "read_ms" };
+        for (int k = 0; k < 8; ++k)
+            state.counters[names[k]] = summarize(phases[std::size_t(k)]).median;
+    }
 }
 
-/// Argument: MSAA samples (0 = off).
+/// Argument: MSAA samples (0 = off). Two-sided (no culling), as for arbitrary input.
 void BM_Render50k(benchmark::State& state) {
-    render_frame(state, int(state.range(0)), false);
+    render_frame(state, { int(state.range(0)), false, false, false });
+}
+/// Back faces culled (closed, consistently oriented surfaces such as the simulation's).
+void BM_Render50k_Cull(benchmark::State& state) {
+    render_frame(state, { int(state.range(0)), false, true, false });
+}
+/// Where the time goes: phase medians (glFinish after each GL phase).
+void BM_Render50k_Profile(benchmark::State& state) {
+    render_frame(state, { int(state.range(0)), false, state.range(1) != 0, true });
 }
 /// Debug view: every triangle edge as a line on top (the edge list is rebuilt every frame).
 void BM_Render50k_Wireframe(benchmark::State& state) {
-    render_frame(state, 4, true);
+    render_frame(state, { 4, true, false, false });
 }
 
 /// The CPU part alone: shading normals split at creases and tags.
@@ -129,10 +162,24 @@ void BM_ShadedMesh50k(benchmark::State& state) {
 BENCHMARK(BM_Render50k)
     ->ArgName("msaa")
     ->Arg(4)
-    ->Arg(2)
     ->Arg(0)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(3.0)
+    ->UseRealTime();
+BENCHMARK(BM_Render50k_Cull)
+    ->ArgName("msaa")
+    ->Arg(4)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0)
+    ->UseRealTime();
+BENCHMARK(BM_Render50k_Profile)
+    ->ArgNames({ "msaa", "cull" })
+    ->Args({ 4, 0 })
+    ->Args({ 0, 0 })
+    ->Args({ 0, 1 })
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0)
     ->UseRealTime();
 BENCHMARK(BM_Render50k_Wireframe)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 BENCHMARK(BM_ShadedMesh50k)->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <gtest/gtest.h>
+#include <thread>
 
 namespace polycut::render::test {
 namespace {
@@ -102,6 +103,57 @@ TEST(ShadedMesh, FlatShadingSplitsEveryNonCoplanarEdge) {
     EXPECT_EQ(mesh.source.size(), 12u);
     build_shaded_mesh(s.arrays(), 180, mesh);
     EXPECT_EQ(mesh.source.size(), 4u);
+}
+
+/// build_shaded_mesh on a thread of its own, i.e. with an empty topology cache.
+ShadedMesh fresh_build(const TestSurface& s, double crease_angle_deg) {
+    ShadedMesh mesh;
+    std::thread([&] { build_shaded_mesh(s.arrays(), crease_angle_deg, mesh); }).join();
+    return mesh;
+}
+
+void expect_identical(const ShadedMesh& a, const ShadedMesh& b) {
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.normals, b.normals); // bit-identical, not merely close
+    EXPECT_EQ(a.tags, b.tags);
+    EXPECT_EQ(a.source, b.source);
+    EXPECT_EQ(a.triangles, b.triangles);
+}
+
+TEST(ShadedMesh, CachedTopologyGivesTheSameMeshAsAFreshBuild) {
+    // Frames of one topology reuse the incidence and grouping; the result must equal a build
+    // from scratch bit for bit, also when a deformation opens or closes a crease (which changes
+    // the grouping) and when the tags or triangles change.
+    TestSurface s = plane_grid(6, 1, 2);
+    ShadedMesh mesh;
+    build_shaded_mesh(s.arrays(), 35, mesh);
+    expect_identical(mesh, fresh_build(s, 35));
+    for (int frame = 1; frame <= 4; ++frame) {
+        // Fold the grid about x = 2 by an angle that crosses the 35 degree crease at frame 3.
+        const float angle = 0.25f * float(frame); // 14, 29, 43, 57 degrees
+        for (std::size_t v = 0; v < s.positions.size() / 3; ++v) {
+            const float x = float(v % 7);
+            if (x > 2) {
+                s.positions[3 * v] = 2 + (x - 2) * std::cos(angle);
+                s.positions[3 * v + 2] = (x - 2) * std::sin(angle);
+            }
+        }
+        build_shaded_mesh(s.arrays(), 35, mesh);
+        const ShadedMesh fresh = fresh_build(s, 35);
+        expect_identical(mesh, fresh);
+        // Below the crease angle the fold is smooth (no split at x = 2), above it splits.
+        const std::size_t smooth_count = fresh_build(plane_grid(6, 1, 2), 35).source.size();
+        if (angle < 0.61f) // 35 degrees
+            EXPECT_EQ(mesh.source.size(), smooth_count) << "frame " << frame;
+        else
+            EXPECT_GT(mesh.source.size(), smooth_count) << "frame " << frame;
+    }
+    s.tags.assign(s.tags.size(), 1); // new tags, same triangles: the cache must notice
+    build_shaded_mesh(s.arrays(), 35, mesh);
+    expect_identical(mesh, fresh_build(s, 35));
+    std::swap(s.triangles[0], s.triangles[1]); // flipped triangle, same sizes
+    build_shaded_mesh(s.arrays(), 35, mesh);
+    expect_identical(mesh, fresh_build(s, 35));
 }
 
 TEST(ShadedMesh, DegenerateTriangleGetsAUnitNormal) {

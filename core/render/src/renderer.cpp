@@ -5,6 +5,7 @@
 #include "gl.hpp"
 #include "overlay_geometry.hpp"
 #include "polycut/common/error.hpp"
+#include "polycut/common/stats.hpp"
 #include "shaders.hpp"
 
 #include <algorithm>
@@ -87,11 +88,13 @@ struct Renderer::Impl {
     LitGeometry lit;
     std::vector<LineVertex> lines;
     std::vector<std::uint64_t> edge_keys;
+    RenderTimings timings;
 
     void create_gl_objects();
     void destroy_gl_objects();
     void fill_lit(const DrawList& scene);
     void fill_lines(const DrawList& scene);
+    void upload_all();
     void draw(const Camera& camera);
 };
 
@@ -173,7 +176,9 @@ void Renderer::Impl::destroy_gl_objects() {
 }
 
 void Renderer::Impl::fill_lit(const DrawList& scene) {
+    Stopwatch watch;
     build_shaded_mesh(scene.surface, config.crease_angle_deg, shaded);
+    timings.normals_ms = watch.ms();
     const std::array<std::array<std::uint8_t, 4>, 3> colours = { to_rgba8(config.interior_colour),
         to_rgba8(config.skin_colour), to_rgba8(config.cut_colour) };
     const std::size_t n = shaded.source.size();
@@ -237,7 +242,25 @@ void Renderer::Impl::fill_lines(const DrawList& scene) {
     }
 }
 
+void Renderer::Impl::upload_all() {
+    if (!lit.indices.empty()) {
+        glBindVertexArray(lit_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, lit_vbo);
+        upload(GL_ARRAY_BUFFER, lit.vertices.size() * sizeof(LitVertex), lit.vertices.data(),
+            lit_vbo_bytes);
+        upload(GL_ELEMENT_ARRAY_BUFFER, lit.indices.size() * sizeof(std::uint32_t),
+            lit.indices.data(), lit_ebo_bytes);
+    }
+    if (!lines.empty()) {
+        glBindVertexArray(line_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, line_vbo);
+        upload(GL_ARRAY_BUFFER, lines.size() * sizeof(LineVertex), lines.data(), line_vbo_bytes);
+    }
+    glBindVertexArray(0);
+}
+
 void Renderer::Impl::draw(const Camera& camera) {
+    Stopwatch watch;
     const Eigen::Matrix4d view = camera.view_matrix();
     const Eigen::Matrix4d projection
         = camera.projection_matrix(double(config.width) / double(config.height));
@@ -249,7 +272,12 @@ void Renderer::Impl::draw(const Camera& camera) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glDisable(GL_CULL_FACE); // two-sided lighting; cut faces may face either way
+    if (config.cull_back_faces) {
+        glEnable(GL_CULL_FACE); // closed oriented surfaces: back faces are hidden anyway
+        glCullFace(GL_BACK);
+    } else {
+        glDisable(GL_CULL_FACE); // two-sided lighting; cut faces may face either way
+    }
     if (multisampled)
         glEnable(GL_MULTISAMPLE);
 
@@ -262,11 +290,6 @@ void Renderer::Impl::draw(const Camera& camera) {
             glDisable(GL_POLYGON_OFFSET_FILL);
         }
         glBindVertexArray(lit_vao);
-        glBindBuffer(GL_ARRAY_BUFFER, lit_vbo);
-        upload(GL_ARRAY_BUFFER, lit.vertices.size() * sizeof(LitVertex), lit.vertices.data(),
-            lit_vbo_bytes);
-        upload(GL_ELEMENT_ARRAY_BUFFER, lit.indices.size() * sizeof(std::uint32_t),
-            lit.indices.data(), lit_ebo_bytes);
         set_matrix(lit_program, "u_view", view);
         set_matrix(lit_program, "u_projection", projection);
         glUseProgram(lit_program);
@@ -274,8 +297,6 @@ void Renderer::Impl::draw(const Camera& camera) {
     }
     if (!lines.empty()) {
         glBindVertexArray(line_vao);
-        glBindBuffer(GL_ARRAY_BUFFER, line_vbo);
-        upload(GL_ARRAY_BUFFER, lines.size() * sizeof(LineVertex), lines.data(), line_vbo_bytes);
         set_matrix(line_program, "u_view", view);
         set_matrix(line_program, "u_projection", projection);
         glUseProgram(line_program);
@@ -283,7 +304,14 @@ void Renderer::Impl::draw(const Camera& camera) {
         glDrawArrays(GL_LINES, 0, GLsizei(lines.size()));
     }
     glBindVertexArray(0);
+    timings.submit_ms = watch.ms();
 
+    if (config.profile) {
+        watch.restart();
+        glFinish();
+        timings.raster_ms = watch.ms();
+    }
+    watch.restart();
     if (multisampled) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_target.fbo);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_target.fbo);
@@ -292,6 +320,10 @@ void Renderer::Impl::draw(const Camera& camera) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve_target.fbo);
     } else {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_target.fbo);
+    }
+    if (config.profile) {
+        glFinish();
+        timings.resolve_ms = watch.ms();
     }
     gl::check("draw");
 }
@@ -316,6 +348,10 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::render(const DrawList& scene, const Camera& camera, Image& out) {
+    Impl& impl = *m_impl;
+    impl.timings = {};
+    const Stopwatch total;
+    Stopwatch watch;
     scene.surface.validate();
     camera.validate();
     if (scene.wire_edges.size() % 6 != 0)
@@ -332,12 +368,24 @@ void Renderer::render(const DrawList& scene, const Camera& camera, Image& out) {
         check_finite(scene.arrows[i].vector, "/arrows/" + std::to_string(i) + "/vector");
     }
 
-    Impl& impl = *m_impl;
+    impl.timings.validate_ms = watch.ms();
     impl.context->make_current();
+    watch.restart();
     impl.fill_lit(scene);
     impl.fill_lines(scene);
+    impl.timings.fill_ms = watch.ms() - impl.timings.normals_ms;
+    watch.restart();
+    impl.upload_all();
+    impl.timings.upload_ms = watch.ms();
     impl.draw(camera);
+    watch.restart();
     impl.context->read_pixels(impl.config.width, impl.config.height, out);
+    impl.timings.read_ms = watch.ms();
+    impl.timings.total_ms = total.ms();
+}
+
+const RenderTimings& Renderer::timings() const {
+    return m_impl->timings;
 }
 
 Image Renderer::render(const DrawList& scene, const Camera& camera) {

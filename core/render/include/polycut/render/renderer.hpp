@@ -45,6 +45,14 @@ struct RenderConfig {
     bool wireframe = false; ///< draw DrawList::wire_edges, or the triangle edges if none
     float line_width = 1.0f; ///< wireframe width [px]
     float overlay_radius = 0; ///< blade / arrow shaft radius [m]; 0 = 0.4 % of the surface size
+    /// Skip triangles facing away from the camera. Valid for closed, consistently oriented
+    /// surfaces seen from outside (the simulation's skin + cut surface is one, issue 5 item 6):
+    /// their back faces are always hidden, so the image is the same and llvmpipe sets up and
+    /// rasterizes about half the triangles. Leave off for open or inconsistently oriented input.
+    bool cull_back_faces = false;
+    /// Wait for the GL after each phase so that Renderer::timings() splits the frame into
+    /// rasterization, resolve and read-back (costs a little; off for production use).
+    bool profile = false;
 
     /// Throws InputError naming the field ("/width", ...) if a setting is out of range.
     void validate() const;
@@ -70,6 +78,21 @@ struct DrawList {
     std::span<const Arrow> arrows; ///< force arrows
 };
 
+/// Wall time of the phases of the last Renderer::render call [ms]. Without
+/// RenderConfig::profile, GL work is only waited for at the read-back, so `raster_ms` and
+/// `resolve_ms` are 0 and `read_ms` includes them.
+struct RenderTimings {
+    double validate_ms = 0; ///< input checks
+    double normals_ms = 0; ///< build_shaded_mesh (shading normals)
+    double fill_ms = 0; ///< interleaved vertex arrays, overlays, wireframe edges
+    double upload_ms = 0; ///< buffer uploads
+    double submit_ms = 0; ///< clear and draw calls (llvmpipe: vertex shading and binning)
+    double raster_ms = 0; ///< profile only: waiting for rasterization (glFinish)
+    double resolve_ms = 0; ///< profile only: MSAA resolve blit
+    double read_ms = 0; ///< glReadPixels and the row flip
+    double total_ms = 0; ///< the whole call
+};
+
 /// Draws DrawLists into RGBA images off screen. Owns a GL context (OSMesa by default) and its GL
 /// objects; every call makes the context current first. Not thread-safe.
 /// Rendering is deterministic: the same input gives the same bytes.
@@ -90,6 +113,8 @@ public:
     /// As above, returning a new image.
     Image render(const DrawList& scene, const Camera& camera);
 
+    /// Phase timings of the last render() call.
+    const RenderTimings& timings() const;
     /// The configuration in use.
     const RenderConfig& config() const;
     /// The GL context's description (version and renderer).
