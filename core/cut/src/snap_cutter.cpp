@@ -305,6 +305,19 @@ void SnapCutter::rebuild() {
     m_impl->s.rebuild();
 }
 
+CutReport SnapCutter::remove_degeneracies() {
+    Stopwatch watch;
+    auto& s = m_impl->s;
+    CutReport report;
+    s.begin(report);
+    snap::remove_degeneracies(s, true);
+    s.end();
+    if (report.topology_changed)
+        end_sweep();
+    report.elapsed_ms = watch.ms();
+    return report;
+}
+
 const SnapStats& SnapCutter::stats() const {
     return m_impl->s.stats;
 }

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <unordered_map>
 
 namespace polycut::cut::snap {
@@ -51,6 +52,93 @@ struct Model {
     }
     double aspect(const Tet& t) const {
         return tet_aspect_ratio(s.X(t[0]), s.X(t[1]), s.X(t[2]), s.X(t[3]));
+    }
+
+    // 002 sec. 3.2.3: flat by aspect ratio, or with a dihedral angle close to pi (a flat tet
+    // can keep an aspect ratio up to about sin(pi - large_dihedral) ~ 0.03).
+    bool degenerate(const Tet& t) const {
+        if (aspect(t) < s.opt.degenerate_aspect)
+            return true;
+        const auto ang = tet_dihedral_angles(s.X(t[0]), s.X(t[1]), s.X(t[2]), s.X(t[3]));
+        return *std::max_element(ang.begin(), ang.end()) > s.opt.large_dihedral;
+    }
+
+    // Live tet other than c with the face key k, and its local face index (kNone if none).
+    std::pair<Index, int> across(Index c, const std::array<Index, 3>& k) const {
+        for (Index d : at(s.node_cells, k[0])) {
+            if (d == c || !alive(d))
+                continue;
+            const Tet t = tet(d);
+            for (int j = 0; j < 4; ++j)
+                if (key(t, j) == k)
+                    return { d, j };
+        }
+        return { kNone, -1 };
+    }
+
+    // Cuts tet c free and deletes it (002 sec. 3.2.3, last resort): its interior faces become
+    // Cut faces of the tets across them. Refused (nothing changed) if an edge of c would be left
+    // with its ring of tets in two fans (a non-manifold edge no node duplication repairs) or if
+    // the rest volume budget does not cover the tet's volume.
+    bool cut_free(Index c) {
+        const Tet t = tet(c);
+        std::vector<std::pair<Index, int>> nb;
+        for (int k = 0; k < 4; ++k)
+            if (at(labels, c)[std::size_t(k)] == kInterior) {
+                const auto a = across(c, key(t, k));
+                if (a.first != kNone)
+                    nb.push_back(a);
+            }
+        double total = 0;
+        for (Index d = 0; d < s.m.num_cells(); ++d)
+            if (alive(d) && d != c)
+                total += volume(tet(d));
+        if (std::abs(total - s.volume0) > s.opt.max_volume_change * s.volume0)
+            return false;
+        for (const auto& [i, j] : kTetEdges) {
+            const Index a = t[std::size_t(i)], b = t[std::size_t(j)];
+            // Fans of the ring around (a, b) once c is gone: tets joined through interior faces
+            // containing a and b that are not faces of c.
+            std::vector<Index> ring;
+            for (Index d : at(s.node_cells, a))
+                if (d != c && alive(d)) {
+                    const Tet u = tet(d);
+                    if (std::find(u.begin(), u.end(), b) != u.end())
+                        ring.push_back(d);
+                }
+            std::map<std::array<Index, 3>, std::vector<std::size_t>> shared;
+            for (std::size_t r = 0; r < ring.size(); ++r) {
+                const Tet u = tet(ring[r]);
+                for (int k = 0; k < 4; ++k) {
+                    const Index opp = u[std::size_t(k)];
+                    if (opp == a || opp == b || at(labels, ring[r])[std::size_t(k)] != kInterior)
+                        continue;
+                    shared[key(u, k)].push_back(r);
+                }
+            }
+            std::vector<std::size_t> root(ring.size());
+            std::iota(root.begin(), root.end(), std::size_t(0));
+            auto find = [&](std::size_t x) {
+                while (root[x] != x)
+                    x = root[x] = root[root[x]];
+                return x;
+            };
+            for (const auto& [k, users] : shared)
+                if (users.size() == 2 && k != key(t, 0) && k != key(t, 1) && k != key(t, 2)
+                    && k != key(t, 3))
+                    root[find(users[0])] = find(users[1]);
+            std::size_t fans = 0;
+            for (std::size_t r = 0; r < ring.size(); ++r)
+                fans += find(r) == r ? 1 : 0;
+            if (fans > 1)
+                return false;
+        }
+        for (const auto& [d, j] : nb) {
+            at(labels, d)[std::size_t(j)] = std::uint8_t(mesh::FaceTag::Cut);
+            s.touch(d);
+        }
+        kill(c);
+        return true;
     }
 
     void set_cell(Index c, const Tet& t) {
@@ -321,7 +409,10 @@ bool remove_one(Model& md, Index c) {
             }
         }
         const Index a = t[std::size_t(kTetEdges[best][0])], b = t[std::size_t(kTetEdges[best][1])];
-        return merge(md, a, b, bnd(a), bnd(b));
+        if (!merge(md, a, b, bnd(a), bnd(b)))
+            return false;
+        ++s.stats.needles_removed;
+        return true;
     }
     // Snapshot for undoing splits.
     const auto cells0 = s.m.cells;
@@ -402,14 +493,19 @@ bool remove_one(Model& md, Index c) {
         ++s.stats.faces_split;
         other = t[d];
     }
-    if (merge(md, other, m1, bnd(other), bnd(m1)))
+    if (merge(md, other, m1, bnd(other), bnd(m1))) {
+        (nl == 1          ? s.stats.spindles_removed
+                : nl == 2 ? s.stats.slivers_removed
+                          : s.stats.caps_removed)++;
         return true;
+    }
     undo();
     return false;
 }
 
-// Rebuilds the face table from the tets and labels, compacts cells and nodes.
-void rebuild_faces(Model& md) {
+// Rebuilds the face table from the tets and labels, compacts cells and nodes; returns the node
+// map (old -> new id, kNone if unused).
+std::vector<Index> rebuild_faces(Model& md) {
     State& s = md.s;
     mesh::Mesh& m = s.m;
     // Pending faces survive by their node sets.
@@ -557,18 +653,20 @@ void rebuild_faces(Model& md) {
             }
     }
     s.compacted = true;
+    return nmap;
 }
 } // namespace
 
-void remove_degeneracies(State& s) {
+void remove_degeneracies(State& s, bool all_cells) {
+    Model md { s, {} };
+    auto candidate = [&](Index c) { return md.alive(c) && (all_cells || at(s.changed, c)); };
     std::vector<Index> list;
     for (Index c = 0; c < s.m.num_cells(); ++c)
-        if (at(s.changed, c) && s.aspect(c) < s.opt.degenerate_aspect)
+        if (candidate(c) && md.degenerate(md.tet(c)))
             list.push_back(c);
     if (list.empty())
         return;
     s.stats.degenerate_found += Index(list.size());
-    Model md { s, {} };
     md.labels.resize(s.m.cells.size());
     for (Index c = 0; c < s.m.num_cells(); ++c) {
         const auto& nodes = at(s.m.cells, c).nodes;
@@ -587,21 +685,41 @@ void remove_degeneracies(State& s) {
                 : nl == 2 ? s.stats.slivers
                           : s.stats.caps)++;
     }
+    // Passes while the list shortens (002 sec. 3.2.3).
     for (int pass = 0; pass < s.opt.max_passes; ++pass) {
         for (Index c : list)
-            if (md.alive(c) && md.aspect(md.tet(c)) < s.opt.degenerate_aspect)
+            if (md.alive(c) && md.degenerate(md.tet(c)))
                 remove_one(md, c);
         std::vector<Index> next;
         for (Index c = 0; c < s.m.num_cells(); ++c)
-            if (md.alive(c) && at(s.changed, c) && md.aspect(md.tet(c)) < s.opt.degenerate_aspect)
+            if (candidate(c) && md.degenerate(md.tet(c)))
                 next.push_back(c);
         const bool shorter = next.size() < list.size();
         list = std::move(next);
         if (!shorter || list.empty())
             break;
     }
-    s.stats.degenerate_left = Index(list.size());
-    rebuild_faces(md);
+    // What is left is incollapsible: cut it free and delete it.
+    std::vector<Index> freed_nodes;
+    if (s.opt.cut_free)
+        for (Index c : list) {
+            const Tet t = md.tet(c);
+            if (md.cut_free(c)) {
+                ++s.stats.cut_free;
+                freed_nodes.insert(freed_nodes.end(), t.begin(), t.end());
+            }
+        }
+    s.stats.degenerate_left = 0;
+    for (Index c = 0; c < s.m.num_cells(); ++c)
+        if (candidate(c) && md.degenerate(md.tet(c)))
+            ++s.stats.degenerate_left;
+    const auto nmap = rebuild_faces(md);
+    // Around a deleted tet a node may now join tets that touch only there: duplicate it.
+    std::sort(freed_nodes.begin(), freed_nodes.end());
+    freed_nodes.erase(std::unique(freed_nodes.begin(), freed_nodes.end()), freed_nodes.end());
+    for (Index n : freed_nodes)
+        if (at(nmap, n) != kNone)
+            split_node(s, at(nmap, n));
 }
 
 } // namespace polycut::cut::snap

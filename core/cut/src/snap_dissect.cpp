@@ -93,6 +93,8 @@ void replace_node(std::vector<Index>& v, Index from, Index to) {
     std::replace(v.begin(), v.end(), from, to);
 }
 
+} // namespace
+
 void split_node(State& s, Index n) {
     const std::vector<Index> cells = at(s.node_cells, n);
     if (cells.size() < 2)
@@ -128,7 +130,6 @@ void split_node(State& s, Index n) {
         }
     }
 }
-} // namespace
 
 void dissect_pending(State& s) {
     std::unordered_set<Index> take;

@@ -111,7 +111,11 @@ std::vector<Index> snap_face_nodes(
 // snap_dissect.cpp: dissects the pending faces that do not pinch an edge.
 void dissect_pending(State& s);
 
-// snap_degenerate.cpp: 002 sec. 3.2.3. Collapses degenerate tets among the changed cells.
-void remove_degeneracies(State& s);
+/// Duplicates node n once per group of its tets not connected through interior faces at n.
+void split_node(State& s, Index n);
+
+// snap_degenerate.cpp: 002 sec. 3.2.3. Collapses degenerate tets among the changed cells (or
+// among all cells), cuts free what no collapse removes.
+void remove_degeneracies(State& s, bool all_cells = false);
 
 } // namespace polycut::cut::snap

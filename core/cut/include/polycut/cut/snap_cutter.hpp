@@ -56,6 +56,13 @@ struct SnapOptions {
     /// Triangle corners farther than max_extent * L from the mesh's bounding-box centre are
     /// rejected.
     double max_extent = 1e3;
+    /// Cut degenerate tets that no collapse removes free and delete them (002 sec. 3.2.3), if
+    /// the volume budget allows; otherwise they are only counted (SnapStats::degenerate_left).
+    bool cut_free = true;
+    /// A dissection that would enclose a piece of fewer than this many tets (a tet left on the
+    /// far side of a jagged cut where a snap was refused, touching its side only at a node) does
+    /// not cut those faces: the piece stays with the tets across them. 0 disables the check.
+    Index min_piece_cells = 8;
 };
 
 /// What the last cut call of a SnapCutter did beyond the common CutReport.
@@ -66,12 +73,25 @@ struct SnapStats {
     Index faces_pending = 0; ///< selected faces held back (would pinch an edge); retried later
     Index nodes_snapped = 0; ///< node moves onto a sweep plane
     Index snaps_refused = 0; ///< node moves refused by the snap_min_aspect guard
-    Index degenerate_found = 0; ///< degenerate tets found (first pass of each triangle)
+    /// Degenerate tets found (first pass of each triangle): aspect ratio below
+    /// degenerate_aspect or a dihedral angle above large_dihedral.
+    Index degenerate_found = 0;
     Index needles = 0, spindles = 0, slivers = 0, caps = 0; ///< classification of those
     Index edges_collapsed = 0; ///< edge collapses done
     Index edges_split = 0; ///< edge splits done (spindles and slivers)
     Index faces_split = 0; ///< face splits done (caps)
-    Index degenerate_left = 0; ///< degenerate tets left (incollapsible; still positive volume)
+    /// Degenerate tets removed by each path of 002 sec. 3.2.3 (classified when removed): needle
+    /// (shortest edge collapsed), spindle (opposite edge split, collapsed), sliver (both
+    /// large-angle edges split, collapsed), cap (opposite face split, collapsed).
+    Index needles_removed = 0, spindles_removed = 0, slivers_removed = 0, caps_removed = 0;
+    /// Incollapsible degenerate tets cut free and deleted after the last pass (002 sec. 3.2.3);
+    /// their faces become Cut faces of their neighbours.
+    Index cut_free = 0;
+    /// Degenerate tets left (neither collapsible nor removable; still positive volume).
+    Index degenerate_left = 0;
+    /// Newly enclosed pieces of fewer than min_piece_cells tets that were glued back instead of
+    /// being cut off (see SnapOptions::min_piece_cells).
+    Index islands_merged = 0;
     double volume_change = 0; ///< |V_after - V_before| / V_before of the call
 };
 
@@ -97,6 +117,10 @@ public:
     void end_sweep();
     /// Recomputes adjacency after external edits of the mesh (also forgets the sweep).
     void rebuild();
+    /// Removes degenerate tets anywhere in the mesh (002 sec. 3.2.3), not only those a cut
+    /// changed: e.g. slivers of a Delaunay mesh before the first cut. Same report and id maps as
+    /// cut(); stats() tells which paths ran. Forgets the sweep if anything changed.
+    CutReport remove_degeneracies();
 
     /// Statistics of the last cut() call.
     const SnapStats& stats() const;
