@@ -11,6 +11,7 @@
 #include "snap_state.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <unordered_set>
 
@@ -89,6 +90,82 @@ struct Pinch {
     }
 };
 
+// 002's closest-node selection on an irregular mesh can wrap a tet on the far side of the
+// sweep: a tet with a face in the sweep plane whose apex node is marked by the tets around it,
+// so the faces at the apex are selected too. Snapping the apex would flatten that tet; when the
+// snap is refused (snap_min_aspect) the selected faces enclose the tet, which touches its side
+// only at the apex node and would come off as a tiny extra piece. Such newly enclosed pieces of
+// fewer than min_piece_cells tets are found by a bounded flood fill through the faces that stay
+// interior, and their selected faces are dropped: the piece stays with the tets across them.
+Index keep_small_pieces(State& s, std::unordered_set<Index>& take, std::vector<Index>& dropped) {
+    const Index limit = s.opt.min_piece_cells;
+    if (limit <= 0)
+        return 0;
+    std::vector<Index> seeds;
+    for (Index f : take) {
+        seeds.push_back(at(s.m.faces, f).owner);
+        seeds.push_back(at(s.m.faces, f).neighbour);
+    }
+    std::sort(seeds.begin(), seeds.end());
+    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+    std::unordered_set<Index> done;
+    Index merged = 0;
+    for (Index seed : seeds) {
+        if (done.count(seed))
+            continue;
+        std::vector<Index> piece { seed };
+        std::unordered_set<Index> in { seed };
+        for (std::size_t i = 0; i < piece.size() && Index(piece.size()) < limit; ++i)
+            for (Index f : at(s.m.cells, piece[i]).faces) {
+                const mesh::Face& face = at(s.m.faces, f);
+                if (face.boundary() || take.count(f))
+                    continue;
+                const Index other = face.owner == piece[i] ? face.neighbour : face.owner;
+                if (in.insert(other).second)
+                    piece.push_back(other);
+            }
+        done.insert(piece.begin(), piece.end());
+        if (Index(piece.size()) >= limit)
+            continue;
+        // Closed and small: glue it to the tet across its selected faces lying farthest on its
+        // side of the sweep, dropping only the faces shared with that tet. Gluing it to more
+        // tets could bridge the two sides where the cut folds around it.
+        const SweepPlane& P = s.recent.back();
+        auto side = [&](Index c) {
+            Vec3 mid = Vec3::Zero();
+            for (Index n : at(s.m.cells, c).nodes)
+                mid += s.X(n) / 4.0;
+            return P.distance(mid);
+        };
+        double own = 0;
+        for (Index c : piece)
+            own += side(c);
+        Index join = kNone;
+        double best = 0;
+        for (Index c : piece)
+            for (Index f : at(s.m.cells, c).faces)
+                if (take.count(f)) {
+                    const mesh::Face& face = at(s.m.faces, f);
+                    const Index other = face.owner == c ? face.neighbour : face.owner;
+                    if (side(other) * own > best) {
+                        best = side(other) * own;
+                        join = other;
+                    }
+                }
+        std::vector<Index> drop;
+        for (Index c : piece)
+            for (Index f : at(s.m.cells, c).faces)
+                if (take.count(f)
+                    && (at(s.m.faces, f).owner == join || at(s.m.faces, f).neighbour == join))
+                    drop.push_back(f);
+        for (Index f : drop)
+            take.erase(f);
+        dropped.insert(dropped.end(), drop.begin(), drop.end());
+        merged += drop.empty() ? 0 : 1;
+    }
+    return merged;
+}
+
 void replace_node(std::vector<Index>& v, Index from, Index to) {
     std::replace(v.begin(), v.end(), from, to);
 }
@@ -144,32 +221,55 @@ void dissect_pending(State& s) {
     // Hold back faces until no edge of a taken face is pinched. Holding a face back can only
     // pinch edges at its own nodes, so only faces sharing a node with it are re-checked.
     const Pinch pinch { s, take };
-    std::vector<Index> work(order.rbegin(), order.rend());
-    while (!work.empty()) {
-        const Index f = work.back();
-        work.pop_back();
-        if (!take.count(f))
-            continue;
-        const auto loop = at(s.m.faces, f).nodes;
-        for (std::size_t k = 0; k < 3; ++k) {
-            const Index a = loop[k], b = loop[(k + 1) % 3];
-            if (!pinch.pinched(a, b))
+    auto hold_back = [&]() {
+        std::vector<Index> work(order.rbegin(), order.rend());
+        while (!work.empty()) {
+            const Index f = work.back();
+            work.pop_back();
+            if (!take.count(f))
                 continue;
-            Index drop = kNone;
-            for (auto it = order.rbegin(); it != order.rend() && drop == kNone; ++it)
-                if (take.count(*it) && has(at(s.m.faces, *it).nodes, a)
-                    && has(at(s.m.faces, *it).nodes, b))
-                    drop = *it;
-            take.erase(drop);
-            const auto& dl = at(s.m.faces, drop).nodes;
-            for (Index g : order)
-                if (take.count(g))
-                    for (Index x : at(s.m.faces, g).nodes)
-                        if (has(dl, x)) {
-                            work.push_back(g);
-                            break;
-                        }
-            break;
+            const auto loop = at(s.m.faces, f).nodes;
+            for (std::size_t k = 0; k < 3; ++k) {
+                const Index a = loop[k], b = loop[(k + 1) % 3];
+                if (!pinch.pinched(a, b))
+                    continue;
+                Index drop = kNone;
+                for (auto it = order.rbegin(); it != order.rend() && drop == kNone; ++it)
+                    if (take.count(*it) && has(at(s.m.faces, *it).nodes, a)
+                        && has(at(s.m.faces, *it).nodes, b))
+                        drop = *it;
+                take.erase(drop);
+                const auto& dl = at(s.m.faces, drop).nodes;
+                for (Index g : order)
+                    if (take.count(g))
+                        for (Index x : at(s.m.faces, g).nodes)
+                            if (has(dl, x)) {
+                                work.push_back(g);
+                                break;
+                            }
+                break;
+            }
+        }
+    };
+    hold_back();
+    // Then keep small enclosed pieces attached; the faces dropped for them are not retried (a
+    // later triangle would enclose the same piece), and their removal can pinch again.
+    const auto before = take;
+    std::vector<Index> dropped;
+    const Index merged = keep_small_pieces(s, take, dropped);
+    if (merged > 0) {
+        hold_back();
+        // If gluing a piece made another face pinch, the cut would stay open there: keep the
+        // piece instead (counted as a component of its own).
+        if (Index(take.size() + dropped.size()) < Index(before.size())) {
+            take = before;
+        } else {
+            s.stats.islands_merged += merged;
+            std::vector<Index> kept;
+            for (Index f : order)
+                if (std::find(dropped.begin(), dropped.end(), f) == dropped.end())
+                    kept.push_back(f);
+            order = std::move(kept);
         }
     }
     std::vector<Index> still;
