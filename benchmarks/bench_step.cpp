@@ -12,8 +12,8 @@
 //     the
 //                      reference from a tightly converged run (PCG + lagged CHOLMOD to 1e-12,
 //                      cached in bench_step_ref_<n>.bin in the working directory)
-//   Assemble/box<n>, SpMV/box<n>, Precond/box<n>/<kind>: the parts of a step, at the state after
-//   20 steps.
+//   Assemble/box<n>, SpMV/box<n>, PcgIteration/box<n>/<kind>, AmgSetup/box<n>: the parts of a
+//   step, at the state after 20 steps.
 //
 // Run one thread: OPENBLAS_NUM_THREADS=1 ./bench_step --benchmark_filter=box20
 // Google Benchmark's CPU column is the process CPU time; on the shared machine prefer it to wall.
@@ -108,6 +108,12 @@ std::vector<Method> methods(double tol) {
     add("block_jacobi", LinearSolverKind::PcgBlockJacobi);
     add("lagged", LinearSolverKind::PcgLagged);
     add("ic", LinearSolverKind::PcgIncompleteCholesky)->refactor_every = 10;
+    // AMG set-up lagged like the CHOLMOD factor: redone when a solve needs more than 10
+    // iterations, or every 20 steps (amg20) whatever the count
+    add("amg", LinearSolverKind::PcgAmg)->refactor_iterations = 10;
+    SolverOptions* every = add("amg20", LinearSolverKind::PcgAmg);
+    every->refactor_every = 20;
+    every->refactor_iterations = 1000;
     return list;
 }
 
@@ -287,6 +293,23 @@ void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p
         double(iterations) * 1e-3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+/// AMG hierarchy set-up on the snapshot's matrix (plus one PCG iteration, negligible beside it).
+void amg_setup_bench(benchmark::State& state, int n) {
+    const Snapshot& s = snapshot(n);
+    solve::PcgOptions o;
+    o.preconditioner = solve::Preconditioner::Amg;
+    o.relative_tolerance = 1e-30;
+    o.max_iterations = 1;
+    o.refactor_every = 1;
+    solve::PcgSolver pcg(o);
+    VecX x;
+    for (auto _ : state) {
+        x.setZero(s.b.size());
+        pcg.solve(s.A, s.b, x);
+    }
+    state.counters["levels"] = pcg.amg_levels();
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -300,10 +323,13 @@ int main(int argc, char** argv) {
         for (auto [name, p] : { std::pair { "jacobi", solve::Preconditioner::Jacobi },
                  std::pair { "block_jacobi", solve::Preconditioner::BlockJacobi3 },
                  std::pair { "lagged", solve::Preconditioner::LaggedCholesky },
-                 std::pair { "ic", solve::Preconditioner::IncompleteCholesky } })
+                 std::pair { "ic", solve::Preconditioner::IncompleteCholesky },
+                 std::pair { "amg", solve::Preconditioner::Amg } })
             benchmark::RegisterBenchmark(
                 ("PcgIteration/" + box + "/" + name).c_str(), pcg_iteration_bench, n, p)
                 ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("AmgSetup/" + box).c_str(), amg_setup_bench, n)
+            ->Unit(benchmark::kMillisecond);
         SolverOptions direct;
         direct.kind = LinearSolverKind::Cholmod;
         benchmark::RegisterBenchmark(

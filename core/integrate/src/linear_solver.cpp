@@ -19,6 +19,9 @@ solve::PcgOptions pcg_options(const SolverOptions& o) {
     case LinearSolverKind::PcgIncompleteCholesky:
         p.preconditioner = solve::Preconditioner::IncompleteCholesky;
         break;
+    case LinearSolverKind::PcgAmg:
+        p.preconditioner = solve::Preconditioner::Amg;
+        break;
     default:
         p.preconditioner = solve::Preconditioner::Jacobi;
     }
@@ -70,7 +73,15 @@ LinearSolveResult LinearSolver::solve(
                                   : solve::SolveStatus::NotConverged;
         return r;
     }
-    const solve::PcgResult p = m_pcg.solve(A, b, x);
+    solve::PcgResult p = m_pcg.solve(A, b, x);
+    if (p.status == solve::SolveStatus::NotReady && m_options.kind == LinearSolverKind::PcgAmg) {
+        // hypre/MPI unusable in this process (m_pcg.setup_error() says why): go on with Jacobi
+        // rather than fail every step
+        solve::PcgOptions jacobi = m_pcg.options();
+        jacobi.preconditioner = solve::Preconditioner::Jacobi;
+        m_pcg = solve::PcgSolver(jacobi);
+        p = m_pcg.solve(A, b, x);
+    }
     r.status = p.status;
     r.iterations = p.iterations;
     r.relative_residual = p.relative_residual;

@@ -140,6 +140,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
         : sv.type == "cg_relaxation"             ? integrate::LinearSolverKind::CgRelaxation
         : sv.preconditioner == "block_jacobi"    ? integrate::LinearSolverKind::PcgBlockJacobi
         : sv.preconditioner == "lagged_cholesky" ? integrate::LinearSolverKind::PcgLagged
+        : sv.preconditioner == "amg"             ? integrate::LinearSolverKind::PcgAmg
                                                  : integrate::LinearSolverKind::PcgJacobi;
     o.solver.relative_tolerance = sv.tolerance;
     o.solver.max_iterations = sv.max_iterations;

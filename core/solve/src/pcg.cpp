@@ -5,6 +5,7 @@
 // and none per solve once the size is stable (DESIGN.md sec. 4, STYLE.md "hot loop").
 #include "polycut/solve/pcg.hpp"
 
+#include "amg_preconditioner.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/solve/background_cholesky.hpp"
 
@@ -29,6 +30,8 @@ const char* to_string(Preconditioner p) {
         return "lagged_cholesky";
     case Preconditioner::IncompleteCholesky:
         return "incomplete_cholesky";
+    case Preconditioner::Amg:
+        return "amg";
     }
     return "unknown";
 }
@@ -66,9 +69,13 @@ struct PcgSolver::Impl {
     // lagged like the CHOLMOD factor.
     Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> ic;
     long ic_size = -1;
+    // Amg: BoomerAMG hierarchy of an earlier matrix, lagged like the CHOLMOD factor
+    detail::AmgPreconditioner amg;
+    std::string setup_error;
 
     explicit Impl(PcgOptions o)
-        : options(o) {
+        : options(o)
+        , amg(o.amg) {
         if (options.background_refactor)
             background = std::make_unique<BackgroundCholesky>();
     }
@@ -157,6 +164,8 @@ struct PcgSolver::Impl {
         case Preconditioner::IncompleteCholesky:
             z = ic.solve(r);
             return SolveStatus::Ok;
+        case Preconditioner::Amg:
+            return amg.apply(r, z);
         }
         return SolveStatus::NotReady;
     }
@@ -223,6 +232,19 @@ struct PcgSolver::Impl {
         mark_refactored();
     }
 
+    /// (Re)builds the AMG hierarchy from A.
+    SolveStatus setup_amg(const SparseMatrix& A) {
+        ++refactorizations;
+        const SolveStatus s = amg.setup(A);
+        setup_error = s == SolveStatus::NotReady ? amg.error() : std::string();
+        if (s != SolveStatus::Ok) {
+            amg.clear();
+            return s;
+        }
+        mark_refactored();
+        return SolveStatus::Ok;
+    }
+
     /// Chooses and prepares the preconditioner of this solve.
     SolveStatus prepare(const SparseMatrix& A, PcgResult& result) {
         Preconditioner use = options.preconditioner;
@@ -263,6 +285,14 @@ struct PcgSolver::Impl {
                 mark_refactored();
             }
         }
+        if (use == Preconditioner::Amg) {
+            const bool due = amg.size() != A.rows()
+                || (options.refactor_every > 0 && solves_since_refactor >= options.refactor_every)
+                || refactor_requested;
+            if (due)
+                if (const SolveStatus s = setup_amg(A); s != SolveStatus::Ok)
+                    return s;
+        }
         result.used = use;
         switch (use) {
         case Preconditioner::Jacobi:
@@ -288,6 +318,7 @@ const PcgOptions& PcgSolver::options() const {
 
 void PcgSolver::reset() {
     m_impl->factor = CholmodSolver {};
+    m_impl->amg.clear();
     m_impl->ic_size = -1;
     m_impl->solves_since_refactor = 0;
     m_impl->refactor_requested = false;
@@ -325,11 +356,17 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     const double target = impl.options.relative_tolerance * b_norm;
     result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
     int iterations_with_factor = result.iterations;
-    // A stale lagged factor that cannot reach the tolerance: refactor once and go on from x.
-    if (result.status == SolveStatus::NotConverged && result.used == Preconditioner::LaggedCholesky
-        && !result.refactored && !impl.background) {
-        ++impl.refactorizations;
-        result.status = impl.factor.factorize(A);
+    // A stale lagged factor (or AMG hierarchy) that cannot reach the tolerance: refactor once and
+    // go on from x.
+    const bool lagged = (result.used == Preconditioner::LaggedCholesky && !impl.background)
+        || result.used == Preconditioner::Amg;
+    if (result.status == SolveStatus::NotConverged && lagged && !result.refactored) {
+        if (result.used == Preconditioner::Amg) {
+            result.status = impl.setup_amg(A);
+        } else {
+            ++impl.refactorizations;
+            result.status = impl.factor.factorize(A);
+        }
         impl.mark_refactored();
         impl.installed = false;
         result.refactored = true;
@@ -365,6 +402,14 @@ void PcgSolver::finish_background_refactor() {
 
 int PcgSolver::refactorizations() const {
     return m_impl->refactorizations;
+}
+
+int PcgSolver::amg_levels() const {
+    return m_impl->amg.levels();
+}
+
+const std::string& PcgSolver::setup_error() const {
+    return m_impl->setup_error;
 }
 
 } // namespace polycut::solve

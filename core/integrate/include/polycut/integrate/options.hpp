@@ -31,6 +31,9 @@ enum class LinearSolverKind {
     PcgBlockJacobi, ///< PCG, 3x3 block-Jacobi preconditioner, warm-started
     PcgLagged, ///< PCG preconditioned by a lagged CHOLMOD factor
     PcgIncompleteCholesky, ///< PCG preconditioned by a lagged incomplete Cholesky factor
+    /// PCG preconditioned by one V-cycle of a lagged algebraic multigrid hierarchy (hypre
+    /// BoomerAMG, systems AMG with 3 unknowns per node), set up again on the PcgLagged schedule
+    PcgAmg,
     /// Unpreconditioned CG relaxation of seed 002 sec. 3.1 (fixed DOFs eliminated; stops at
     /// ||r|| < tol ||b||), warm-started; the solver Nienhuys' static cutting simulator used.
     CgRelaxation,
@@ -41,8 +44,11 @@ struct SolverOptions {
     LinearSolverKind kind = LinearSolverKind::PcgJacobi;
     double relative_tolerance = 1e-6; ///< PCG: stop at ||r|| <= tol ||b||
     int max_iterations = 2000; ///< PCG iteration limit
-    int refactor_every = 0; ///< PcgLagged: refactor every k solves (0 = on demand)
-    int refactor_iterations = 50; ///< PcgLagged: refactor when a solve took more
+    /// PcgLagged, PcgIncompleteCholesky, PcgAmg: refactor (AMG: set up again) every k solves
+    /// (0 = on demand)
+    int refactor_every = 0;
+    /// PcgLagged, PcgIncompleteCholesky, PcgAmg: refactor when a solve took more iterations
+    int refactor_iterations = 50;
     bool background_refactor = false; ///< PcgLagged: refactor on a worker thread
 };
 

@@ -62,10 +62,12 @@ struct Integrator {
 
 struct Solver {
     std::string type = "pcg"; ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
-    std::string preconditioner = "jacobi"; ///< pcg: "jacobi", "block_jacobi", "lagged_cholesky"
+    /// pcg: "jacobi", "block_jacobi", "lagged_cholesky", "amg" (hypre BoomerAMG)
+    std::string preconditioner = "jacobi";
     double tolerance = 1e-6; ///< relative residual
     int max_iterations = 2000;
-    int refactor_every = 0; ///< lagged_cholesky: refactor every k solves (0 = on demand)
+    /// lagged_cholesky, amg: refactor (set up again) every k solves (0 = on demand)
+    int refactor_every = 0;
 };
 
 /// Selects nodes by rest position.
@@ -115,7 +117,7 @@ struct Sweep {
 struct Cutting {
     std::string method = "split"; ///< "split" (cell splitting, 000 sec. 5; default except for tet)
                                   ///< or "snap" (face snapping, 002; default for tet)
-    double snap_distance = 1e-3; ///< node snapping distance, relative to the local cell thickness
+    double snap_distance = 1e-2; ///< node snapping distance, relative to the local cell thickness
     double sliver_volume = 1e-3; ///< cells below this fraction of their parent are merged
     std::vector<Sweep> sweeps;
 };

@@ -1,30 +1,37 @@
-// Preconditioned conjugate gradients, warm-started, with Jacobi, 3x3 block-Jacobi or a lagged
-// CHOLMOD factor as preconditioner (DESIGN.md sec. 4).
+// Preconditioned conjugate gradients, warm-started, with Jacobi, 3x3 block-Jacobi, a lagged
+// CHOLMOD factor, a lagged incomplete Cholesky factor or a lagged algebraic multigrid hierarchy
+// (hypre BoomerAMG) as preconditioner (DESIGN.md sec. 4).
 #pragma once
 
+#include "polycut/solve/amg_options.hpp"
 #include "polycut/solve/cholmod_solver.hpp"
 #include "polycut/solve/sparse.hpp"
 
 #include <memory>
+#include <string>
 
 namespace polycut::solve {
 
-/// PCG preconditioners. LaggedCholesky and IncompleteCholesky keep their factor between solves
-/// and refresh it on the schedule of PcgOptions (refactor_every / refactor_iterations).
-enum class Preconditioner { None, Jacobi, BlockJacobi3, LaggedCholesky, IncompleteCholesky };
+/// PCG preconditioners. LaggedCholesky, IncompleteCholesky and Amg keep their factor / hierarchy
+/// between solves and refresh it on the schedule of PcgOptions (refactor_every /
+/// refactor_iterations). Amg: one V-cycle of hypre BoomerAMG (systems AMG, see AmgOptions).
+enum class Preconditioner { None, Jacobi, BlockJacobi3, LaggedCholesky, IncompleteCholesky, Amg };
 
 /// Name of a preconditioner ("none", "jacobi", "block_jacobi3", "lagged_cholesky",
-/// "incomplete_cholesky").
+/// "incomplete_cholesky", "amg").
 const char* to_string(Preconditioner p);
 
 struct PcgOptions {
     double relative_tolerance = 1e-6; ///< stop at ||r|| <= tol ||b|| (dimensionless)
     int max_iterations = 1000;
     Preconditioner preconditioner = Preconditioner::Jacobi;
-    /// LaggedCholesky: refactor every this many solves (0 = only when needed)...
+    /// LaggedCholesky, IncompleteCholesky, Amg: refactor (AMG: redo the set-up) every this many
+    /// solves (0 = only when needed)...
     int refactor_every = 0;
     /// ...or when a solve needed more iterations than this.
     int refactor_iterations = 50;
+    /// Amg: hierarchy settings.
+    AmgOptions amg {};
     /// LaggedCholesky: refactor on a worker thread (BackgroundCholesky) instead of inside
     /// solve(). Until the new factor is ready, solve() keeps using the old one, or
     /// BlockJacobi3 if the old one has the wrong size (after a cut).
@@ -68,8 +75,12 @@ public:
     /// Background mode: blocks until a pending background factorization has finished, then
     /// installs it (the next solve reports refactored). No-op otherwise.
     void finish_background_refactor();
-    /// Number of lagged factorizations done so far (foreground and background).
+    /// Number of lagged factorizations (or AMG set-ups) done so far (foreground and background).
     int refactorizations() const;
+    /// Amg: levels of the current hierarchy (0 before the first set-up).
+    int amg_levels() const;
+    /// Why the preconditioner set-up last returned NotReady (e.g. hypre/MPI unusable), or "".
+    const std::string& setup_error() const;
 
 private:
     struct Impl;

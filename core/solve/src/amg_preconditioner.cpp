@@ -1,0 +1,254 @@
+// BoomerAMG (hypre) as a PCG preconditioner for the reduced elasticity systems. One process, on
+// MPI_COMM_SELF: the matrix is one ParCSR block (no off-processor part). Per application: copy r
+// into hypre's vector, one V-cycle from zero, copy the result out. The cycle is symmetric (forward
+// l1-Gauss-Seidel down, backward up, Galerkin coarse operators P^T A P, exact coarsest solve),
+// so PCG's theory holds. Systems AMG for elasticity: `functions` interleaved unknowns per node,
+// nodal coarsening on the row-sum norms of the node blocks (hypre "nodal 4"), the classic
+// recommendation for 3D elasticity with BoomerAMG (hypre manual, "systems of PDEs").
+#include "amg_preconditioner.hpp"
+
+#include "hypre_runtime.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#ifdef POLYCUT_HAVE_HYPRE
+#include <HYPRE.h>
+#include <HYPRE_parcsr_ls.h>
+#include <_hypre_parcsr_ls.h>
+#include <_hypre_parcsr_mv.h>
+#endif
+
+namespace polycut::solve::detail {
+
+#ifdef POLYCUT_HAVE_HYPRE
+
+struct AmgPreconditioner::Impl {
+    AmgOptions options;
+    bool runtime = false; ///< holds a reference on the MPI/hypre runtime
+    std::string error;
+    long n = -1;
+    HYPRE_IJMatrix ij_matrix = nullptr;
+    HYPRE_IJVector ij_b = nullptr, ij_x = nullptr;
+    HYPRE_ParCSRMatrix matrix = nullptr;
+    HYPRE_ParVector b = nullptr, x = nullptr;
+    HYPRE_Solver amg = nullptr;
+    std::vector<HYPRE_Int> row_sizes, rows;
+
+    explicit Impl(AmgOptions o)
+        : options(o) { }
+
+    ~Impl() { clear(); }
+
+    /// Frees the hypre objects (lock held by the caller or not needed).
+    void destroy_locked() {
+        if (amg)
+            HYPRE_BoomerAMGDestroy(amg);
+        if (ij_matrix)
+            HYPRE_IJMatrixDestroy(ij_matrix);
+        if (ij_b)
+            HYPRE_IJVectorDestroy(ij_b);
+        if (ij_x)
+            HYPRE_IJVectorDestroy(ij_x);
+        amg = nullptr;
+        ij_matrix = nullptr;
+        ij_b = ij_x = nullptr;
+        matrix = nullptr;
+        b = x = nullptr;
+        n = -1;
+    }
+
+    void clear() {
+        {
+            std::lock_guard lock(hypre_mutex());
+            destroy_locked();
+        }
+        if (runtime) {
+            hypre_release();
+            runtime = false;
+        }
+    }
+
+    HYPRE_ParVector make_vector(HYPRE_IJVector& ij, HYPRE_Int size) {
+        HYPRE_IJVectorCreate(MPI_COMM_SELF, 0, size - 1, &ij);
+        HYPRE_IJVectorSetObjectType(ij, HYPRE_PARCSR);
+        HYPRE_IJVectorInitialize(ij);
+        HYPRE_IJVectorAssemble(ij);
+        void* object = nullptr;
+        HYPRE_IJVectorGetObject(ij, &object);
+        return static_cast<HYPRE_ParVector>(object);
+    }
+
+    static double* data(HYPRE_ParVector v) {
+        return hypre_VectorData(hypre_ParVectorLocalVector(reinterpret_cast<hypre_ParVector*>(v)));
+    }
+
+    void configure_locked() {
+        const AmgOptions& o = options;
+        HYPRE_BoomerAMGCreate(&amg);
+        HYPRE_BoomerAMGSetPrintLevel(amg, 0);
+        HYPRE_BoomerAMGSetLogging(amg, 0);
+        HYPRE_BoomerAMGSetMaxIter(amg, 1); // one V-cycle per application...
+        HYPRE_BoomerAMGSetTol(amg, 0.0); // ...and no residual norm computed for a stopping test
+        HYPRE_BoomerAMGSetCoarsenType(amg, 10); // HMIS
+        HYPRE_BoomerAMGSetInterpType(amg, 6); // extended+i
+        HYPRE_BoomerAMGSetPMaxElmts(amg, o.interpolation_max_elements);
+        HYPRE_BoomerAMGSetStrongThreshold(amg, o.strong_threshold);
+        HYPRE_BoomerAMGSetAggNumLevels(amg, o.aggressive_levels);
+        HYPRE_BoomerAMGSetAggInterpType(amg, 4); // multipass on the aggressive levels
+        HYPRE_BoomerAMGSetNumSweeps(amg, o.sweeps);
+        HYPRE_BoomerAMGSetCycleRelaxType(amg, 13, 1); // down: forward l1-Gauss-Seidel
+        HYPRE_BoomerAMGSetCycleRelaxType(amg, 14, 2); // up: backward (the adjoint: symmetric)
+        HYPRE_BoomerAMGSetCycleRelaxType(amg, 9, 3); // coarsest: Gaussian elimination
+        HYPRE_BoomerAMGSetMaxCoarseSize(amg, o.max_coarse_size);
+        HYPRE_BoomerAMGSetKeepTranspose(amg, 1); // P^T stored: faster restriction
+        const int functions = (o.functions > 1 && n % o.functions == 0) ? o.functions : 1;
+        if (functions > 1) {
+            HYPRE_BoomerAMGSetNumFunctions(amg, functions);
+            HYPRE_BoomerAMGSetNodal(amg, 4); // coarsen nodes, strength from row-sum block norms
+            HYPRE_BoomerAMGSetNodalDiag(amg, 1);
+        }
+    }
+
+    SolveStatus setup(const SparseMatrix& A) {
+        const long rows_n = A.rows();
+        const int* outer = A.outerIndexPtr();
+        const int* nnz = A.innerNonZeroPtr();
+        // validate before touching hypre: NaN/Inf or a non-positive diagonal cannot be SPD
+        for (long j = 0; j < rows_n; ++j) {
+            const int begin = outer[j];
+            const int end = nnz ? begin + nnz[j] : outer[j + 1];
+            bool diagonal = false;
+            for (int k = begin; k < end; ++k) {
+                const double v = A.valuePtr()[k];
+                if (!std::isfinite(v))
+                    return SolveStatus::NonFinite;
+                if (A.innerIndexPtr()[k] == j) {
+                    diagonal = true;
+                    if (!(v > 0))
+                        return SolveStatus::NotPositiveDefinite;
+                }
+            }
+            if (!diagonal)
+                return SolveStatus::NotPositiveDefinite;
+        }
+        if (!runtime) {
+            if (!hypre_acquire(error))
+                return SolveStatus::NotReady;
+            runtime = true;
+        }
+        const SparseMatrix* source = &A;
+        SparseMatrix compressed;
+        if (!A.isCompressed()) {
+            compressed = A;
+            compressed.makeCompressed();
+            source = &compressed;
+        }
+        std::lock_guard lock(hypre_mutex());
+        destroy_locked();
+        n = rows_n;
+        const auto size = static_cast<HYPRE_Int>(n);
+        // symmetric full storage: column j of the CSC arrays is row j of a CSR matrix
+        row_sizes.resize(static_cast<size_t>(n));
+        rows.resize(static_cast<size_t>(n));
+        for (long j = 0; j < n; ++j) {
+            rows[static_cast<size_t>(j)] = static_cast<HYPRE_Int>(j);
+            row_sizes[static_cast<size_t>(j)] = static_cast<HYPRE_Int>(
+                source->outerIndexPtr()[j + 1] - source->outerIndexPtr()[j]);
+        }
+        HYPRE_IJMatrixCreate(MPI_COMM_SELF, 0, size - 1, 0, size - 1, &ij_matrix);
+        HYPRE_IJMatrixSetObjectType(ij_matrix, HYPRE_PARCSR);
+        HYPRE_IJMatrixSetRowSizes(ij_matrix, row_sizes.data());
+        HYPRE_IJMatrixInitialize(ij_matrix);
+        HYPRE_IJMatrixSetValues(ij_matrix, size, row_sizes.data(), rows.data(),
+            source->innerIndexPtr(), source->valuePtr());
+        HYPRE_IJMatrixAssemble(ij_matrix);
+        void* object = nullptr;
+        HYPRE_IJMatrixGetObject(ij_matrix, &object);
+        matrix = static_cast<HYPRE_ParCSRMatrix>(object);
+        b = make_vector(ij_b, size);
+        x = make_vector(ij_x, size);
+        configure_locked();
+        const HYPRE_Int status = HYPRE_BoomerAMGSetup(amg, matrix, b, x);
+        if (status != 0 && HYPRE_GetError() != HYPRE_ERROR_CONV) {
+            char what[256] = {};
+            HYPRE_DescribeError(status, what);
+            HYPRE_ClearAllErrors();
+            error = std::string("BoomerAMG set-up failed: ") + what;
+            destroy_locked();
+            return SolveStatus::NotReady;
+        }
+        HYPRE_ClearAllErrors();
+        return SolveStatus::Ok;
+    }
+
+    SolveStatus apply(const Vector& r, Vector& z) {
+        if (n < 0 || r.size() != n)
+            return SolveStatus::NotReady;
+        z.resize(n);
+        {
+            std::lock_guard lock(hypre_mutex());
+            std::memcpy(data(b), r.data(), sizeof(double) * static_cast<size_t>(n));
+            std::memset(data(x), 0, sizeof(double) * static_cast<size_t>(n));
+            HYPRE_BoomerAMGSolve(amg, matrix, b, x);
+            HYPRE_ClearAllErrors(); // "not converged" after the one cycle asked for
+            std::memcpy(z.data(), data(x), sizeof(double) * static_cast<size_t>(n));
+        }
+        return z.allFinite() ? SolveStatus::Ok : SolveStatus::NonFinite;
+    }
+
+    int levels() const {
+        if (!amg)
+            return 0;
+        return static_cast<int>(
+            hypre_ParAMGDataNumLevels(reinterpret_cast<hypre_ParAMGData*>(amg)));
+    }
+};
+
+#else // built without hypre: every set-up reports NotReady
+
+struct AmgPreconditioner::Impl {
+    AmgOptions options;
+    std::string error = "polycut was built without hypre (libhypre-dev)";
+    long n = -1;
+    explicit Impl(AmgOptions o)
+        : options(o) { }
+    void clear() { }
+    SolveStatus setup(const SparseMatrix&) { return SolveStatus::NotReady; }
+    SolveStatus apply(const Vector&, Vector&) { return SolveStatus::NotReady; }
+    int levels() const { return 0; }
+};
+
+#endif
+
+AmgPreconditioner::AmgPreconditioner(AmgOptions options)
+    : m_impl(std::make_unique<Impl>(options)) { }
+
+AmgPreconditioner::~AmgPreconditioner() = default;
+
+SolveStatus AmgPreconditioner::setup(const SparseMatrix& A) {
+    return m_impl->setup(A);
+}
+
+SolveStatus AmgPreconditioner::apply(const Vector& r, Vector& z) {
+    return m_impl->apply(r, z);
+}
+
+long AmgPreconditioner::size() const {
+    return m_impl->n;
+}
+
+int AmgPreconditioner::levels() const {
+    return m_impl->levels();
+}
+
+const std::string& AmgPreconditioner::error() const {
+    return m_impl->error;
+}
+
+void AmgPreconditioner::clear() {
+    m_impl->clear();
+}
+
+} // namespace polycut::solve::detail

@@ -1,0 +1,42 @@
+// Private: one BoomerAMG V-cycle as a PCG preconditioner (hypre behind a pimpl; this header is
+// free of hypre and MPI so pcg.cpp need not see them).
+#pragma once
+
+#include "polycut/solve/amg_options.hpp"
+#include "polycut/solve/sparse.hpp"
+
+#include <memory>
+#include <string>
+
+namespace polycut::solve::detail {
+
+class AmgPreconditioner {
+public:
+    explicit AmgPreconditioner(AmgOptions options);
+    ~AmgPreconditioner();
+    AmgPreconditioner(const AmgPreconditioner&) = delete;
+    AmgPreconditioner& operator=(const AmgPreconditioner&) = delete;
+
+    /// Builds the multigrid hierarchy of A (symmetric, full storage, n x n): hypre keeps a copy,
+    /// so A may change afterwards (the hierarchy is then lagged). NonFinite on NaN/Inf in A,
+    /// NotPositiveDefinite on a non-positive diagonal entry, NotReady if hypre/MPI is unusable
+    /// (reason in error()).
+    SolveStatus setup(const SparseMatrix& A);
+    /// z = M^-1 r by one V-cycle from z = 0 (r, z: n). NotReady before a successful setup() or
+    /// on size mismatch; NonFinite if z is not finite.
+    SolveStatus apply(const Vector& r, Vector& z);
+    /// Size of the matrix of the last successful setup (-1 if none).
+    long size() const;
+    /// Number of levels of the current hierarchy (0 if none).
+    int levels() const;
+    /// Why the last setup() returned NotReady.
+    const std::string& error() const;
+    /// Drops the hierarchy.
+    void clear();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace polycut::solve::detail
