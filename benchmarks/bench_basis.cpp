@@ -1,8 +1,8 @@
 // Per-cell set-up cost of the polyhedral bases (issue 4 item 6): shape functions + quadrature +
 // Ke = sum_q w_q B_q^T C B_q, against the cell's node count (4 to 40), for mean value
 // coordinates with the heuristic rule (000 eq. 14-16) and the reference rule (degree 2), and for
-// the harmonic basis (001, Gauss degree 2). Targets: < 1 ms (mvc heuristic) and < 10 ms
-// (harmonic) for a typical cut cell of 8-16 nodes.
+// the harmonic basis (001, Gauss degree 2) with the default options and with 001's settings.
+// Targets: < 1 ms (mvc heuristic) and < 10 ms (harmonic) for a typical cut cell of 8-16 nodes.
 #include "../tests/basis/polyhedral_cells.hpp"
 #include "polycut/basis/harmonic.hpp"
 #include "polycut/basis/mean_value.hpp"
@@ -73,6 +73,25 @@ void BM_Harmonic(benchmark::State& state) {
     state.counters["kernels"] = double(kernels);
 }
 
+/// The set-up before the solver and sampling changes (001's settings: xi = 0.1, faces sampled
+/// as densely as edges, Householder QR), for the before/after table of docs/perf.md.
+void BM_HarmonicPaperQR(benchmark::State& state) {
+    const auto geo = cell_with(int(state.range(0)));
+    HarmonicOptions options;
+    options.offset = 0.1;
+    options.face_spacing = 1.0;
+    options.solver = HarmonicSolver::QR;
+    Index kernels = 0;
+    for (auto _ : state) {
+        const HarmonicCell cell(geo, options);
+        kernels = cell.num_kernels();
+        const auto ci = cell.integrate({ HarmonicRule::Gauss, 2 });
+        benchmark::DoNotOptimize(stiffness(ci, kC));
+    }
+    state.counters["nodes"] = double(geo.nodes.size());
+    state.counters["kernels"] = double(kernels);
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
     for (int n : { 4, 8, 10, 12, 16, 24, 32, 40 })
         b->Arg(n);
@@ -82,6 +101,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_MvcHeuristic)->Apply(sizes);
 BENCHMARK(BM_MvcReference)->Apply(sizes);
 BENCHMARK(BM_Harmonic)->Apply(sizes)->MinTime(0.05);
+BENCHMARK(BM_HarmonicPaperQR)->Apply(sizes)->MinTime(0.05);
 } // namespace
 
 BENCHMARK_MAIN();

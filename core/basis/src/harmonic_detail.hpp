@@ -11,11 +11,12 @@ namespace polycut::basis::detail {
 
 using Vec2 = Eigen::Vector2d;
 
-/// Least-squares MFS system  min |A c - B| with A = [psi(|c_i - k_j|) | polynomial], solved by
-/// column-pivoted QR, then corrected so that the nodal combination sum_i x~_i N_i reproduces
+/// Least-squares MFS system  min |A c - B| with A = [psi(|c_i - k_j|) | polynomial] (001 eq.
+/// 14), solved by `solver` (Householder QR as a fallback when the normal equations are not
+/// positive definite), then corrected so that the nodal combination sum_i x~_i N_i reproduces
 /// linear functions exactly (the solution of the exact problem, up to round-off).
 /// A: (m x (n + d + 1)), B: (m x g), X: (g x (d + 1)) nodal [x, 1]. Returns (n + d + 1) x g.
-MatX solve_mfs(const MatX& A, const MatX& B, const MatX& X, Index num_kernels);
+MatX solve_mfs(MatX A, const MatX& B, const MatX& X, Index num_kernels, HarmonicSolver solver);
 
 /// 2D harmonic coordinates of one planar polygon face (001 sec. 4: the boundary values of the
 /// 3D functions), by 2D MFS with the log kernel and a linear term.

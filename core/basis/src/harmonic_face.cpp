@@ -6,7 +6,6 @@
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 
-#include <Eigen/QR>
 #include <cmath>
 #include <limits>
 
@@ -54,26 +53,6 @@ std::vector<Vec2> polygon_grid(const std::vector<Vec2>& poly, double h, double m
                 out.push_back(p);
         }
     return out;
-}
-
-MatX solve_mfs(const MatX& A, const MatX& B, const MatX& X, Index num_kernels) {
-    // Blocked Householder QR (001 eq. 14: "QR factorization"); kernels are placed at least a
-    // fraction of their spacing apart, so the columns stay independent. A column-pivoted QR
-    // takes over if the result is not finite.
-    MatX coef = Eigen::HouseholderQR<MatX>(A).solve(B);
-    if (!coef.allFinite())
-        coef = Eigen::ColPivHouseholderQR<MatX>(A).solve(B);
-    // Reproduction constraint: with nodal coordinates X (g x (d+1)), the combination
-    // coef * X must be exactly the polynomial [x, 1] (kernel weights zero, polynomial identity).
-    const Index n = num_kernels;
-    const Index d1 = Index(X.cols());
-    const MatX XtXinv_Xt = (X.transpose() * X).ldlt().solve(X.transpose()); // (d+1) x g
-    auto W = coef.topRows(n);
-    W -= (W * X) * XtXinv_Xt;
-    auto P = coef.bottomRows(d1);
-    const MatX defect = MatX::Identity(d1, d1) - P * X;
-    P += defect * XtXinv_Xt;
-    return coef;
 }
 
 HarmonicFace::HarmonicFace(const std::vector<Vec3>& loop, const HarmonicOptions& options) {
@@ -152,7 +131,7 @@ HarmonicFace::HarmonicFace(const std::vector<Vec3>& loop, const HarmonicOptions&
     MatX X(Index(k), 3);
     for (std::size_t i = 0; i < k; ++i)
         X.row(Index(i)) << m_poly[i].x(), m_poly[i].y(), 1.0;
-    m_coef = solve_mfs(A, B, X, n);
+    m_coef = solve_mfs(std::move(A), B, X, n, options.solver);
 }
 
 Vec2 HarmonicFace::to_2d(const Vec3& x) const {

@@ -19,8 +19,9 @@ struct BasisOptions {
     PolyBasis poly = PolyBasis::MeanValue; ///< basis of general polyhedra
     PolyRule rule = PolyRule::Heuristic; ///< quadrature of general polyhedra
     int gauss_degree = 2; ///< degree of the tet rule inside PolyRule::Reference
-    double harmonic_xi
-        = 0.1; ///< MFS source offset of the harmonic basis (001), relative to the cell size
+    /// MFS source offset of the harmonic basis (001 eq. 12), relative to the cell size; at most
+    /// HarmonicOptions::nonconvex_offset for non-convex cells.
+    double harmonic_xi = 0.15;
 };
 
 /// Integration data of cell `cell` of `mesh` in rest space: P1 for tets (exact, 1 point), Q1 for
