@@ -3,6 +3,8 @@
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <exception>
 
@@ -13,7 +15,94 @@ using elasticity::ForceMode;
 Integrator::Integrator(elasticity::ElasticModel& model, const IntegratorOptions& options)
     : m_model(&model)
     , m_options(options)
-    , m_solver(options.solver) { }
+    , m_solver(options.solver) {
+    if (options.solver.kind == LinearSolverKind::PcgLagged) {
+        // The factor-preconditioned PCG never refactors on its own schedule (lagged_solve()
+        // does, off the tick); it only factors in the foreground on the very first solve and
+        // when a stale factor cannot reach the tolerance.
+        solve::PcgOptions p;
+        p.relative_tolerance = options.solver.relative_tolerance;
+        p.max_iterations = options.solver.max_iterations;
+        p.preconditioner = solve::Preconditioner::LaggedCholesky;
+        p.refactor_every = 0;
+        p.refactor_iterations = INT_MAX;
+        p.background_refactor = false;
+        m_lagged = std::make_unique<solve::PcgSolver>(p);
+        p.preconditioner = solve::Preconditioner::BlockJacobi3;
+        m_bridge = std::make_unique<solve::PcgSolver>(p);
+        m_factor_job = std::make_unique<solve::BackgroundCholesky>();
+    }
+}
+
+int Integrator::handover_solves(Index n) {
+    // CHOLMOD factors a 6.6k-DOF tet system in ~45 ms and a 24k one in ~420 ms on one core here
+    // (docs/perf.md), roughly (n / 6000)^1.5 x 40 ms: allow ~4x that at 60 Hz, at least 2 solves.
+    const double ticks = 4.0 * std::pow(std::max(double(n), 0.0) / 6000.0, 1.5) * 40.0 / 16.7;
+    return std::clamp(int(std::ceil(ticks)), 2, 10000);
+}
+
+LinearSolveResult Integrator::lagged_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x) {
+    LinearSolveResult r;
+    if (A.rows() == 0) {
+        x.resize(0);
+        return r;
+    }
+    LaggedStatus& st = m_lagged_status;
+    auto start_job = [&] {
+        m_factor_job->start(solve::SparseMatrix(A)); // a copy: A changes next step
+        m_handover_in = handover_solves(Index(A.rows()));
+        m_solves_since_factor = 0;
+        ++st.background_factorizations;
+        st.pending = true;
+    };
+    bool installed = false;
+    if (m_handover_in == 0) {
+        // The background factor's fixed hand-over: wait for it if it is late (deterministic).
+        if (!m_factor_job->ready())
+            ++st.waits;
+        m_factor_job->wait();
+        std::optional<solve::CholmodSolver> factor = m_factor_job->take();
+        if (factor && factor->size() == A.rows()) {
+            m_lagged->set_preconditioner_factor(std::move(*factor));
+            m_has_factor = true;
+            installed = true;
+        }
+        // On failure the lagged PCG factors in the foreground and reports the status.
+        m_pattern_changed = false;
+        m_handover_in = -1;
+        m_solves_since_factor = 0;
+        st.pending = false;
+    }
+    if (m_pattern_changed && m_handover_in < 0)
+        start_job();
+    solve::PcgResult p;
+    if (m_pattern_changed) {
+        // The old factor has the old pattern (and size): block Jacobi carries the solves.
+        p = m_bridge->solve(A, b, x);
+        ++st.bridged_solves;
+        --m_handover_in;
+    } else {
+        p = m_lagged->solve(A, b, x);
+        if (p.refactored && !installed) {
+            ++st.foreground_factorizations;
+            m_solves_since_factor = 0;
+        }
+        m_has_factor = true;
+        ++m_solves_since_factor;
+        if (m_handover_in > 0) {
+            --m_handover_in; // a refresh is under way; the old factor carries this solve
+        } else if (p.status == solve::SolveStatus::Ok
+            && ((m_options.solver.refactor_every > 0
+                    && m_solves_since_factor >= m_options.solver.refactor_every)
+                || p.iterations > m_options.solver.refactor_iterations)) {
+            start_job();
+        }
+    }
+    r.status = p.status;
+    r.iterations = p.iterations;
+    r.relative_residual = p.relative_residual;
+    return r;
+}
 
 State Integrator::rest_state() const {
     State s;
@@ -36,6 +125,16 @@ void Integrator::ensure_topology(StepReport& report) {
     m_K = m_model->make_matrix();
     m_A = m_model->make_matrix();
     m_solver.reset();
+    if (m_lagged) {
+        // New pattern: the running job (if any) is for the old one. The next solve starts the
+        // new factor in the background unless there never was a factor (the first solve
+        // factors in the foreground, as at start-up).
+        m_factor_job->cancel();
+        m_handover_in = -1;
+        m_lagged_status.pending = false;
+        m_pattern_changed = m_pattern_changed || m_has_factor;
+        m_has_factor = false;
+    }
     m_dv.setZero(m_model->num_free_dofs());
     m_dv_prev.resize(0);
     geometry::Aabb box;
@@ -69,7 +168,7 @@ double Integrator::assemble(const MatX3& x, ForceMode mode, bool with_K, StepRep
 bool Integrator::linear_solve(
     const solve::SparseMatrix& A, const VecX& b, VecX& x, StepReport& report) {
     const Stopwatch sw;
-    const LinearSolveResult r = m_solver.solve(A, b, x);
+    const LinearSolveResult r = m_lagged ? lagged_solve(A, b, x) : m_solver.solve(A, b, x);
     report.solve_ms += sw.ms();
     report.solver_iterations += r.iterations;
     report.residual = r.relative_residual;

@@ -6,6 +6,9 @@
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/integrate/linear_solver.hpp"
 #include "polycut/integrate/options.hpp"
+#include "polycut/solve/background_cholesky.hpp"
+
+#include <memory>
 
 namespace polycut::integrate {
 
@@ -25,6 +28,24 @@ public:
     /// Total energy [J]: kinetic 1/2 v^T M v + elastic (force mode of the options).
     double energy(const State& state) const;
 
+    /// PcgLagged: the lagged factor's life after a sparsity pattern change (a cut). The first
+    /// factor is computed on the first solve; after a pattern change, analysis and factorization
+    /// of the new matrix run on a worker thread while PCG with block Jacobi carries the solves,
+    /// and the new factor takes over after a fixed number of solves (handover_solves(), a
+    /// function of the system size only, so a replay gives the same states; if the factor is
+    /// late the solve waits for it). Refactorizations the iteration count asks for run the same
+    /// way, the old factor carrying the solves in between.
+    struct LaggedStatus {
+        int foreground_factorizations = 0; ///< factorizations done inside a solve
+        int background_factorizations = 0; ///< factorizations handed to the worker thread
+        int bridged_solves = 0; ///< solves carried by block Jacobi while a new pattern factors
+        int waits = 0; ///< handovers that had to wait for the worker
+        bool pending = false; ///< a background factorization is under way
+    };
+    const LaggedStatus& lagged_status() const { return m_lagged_status; }
+    /// Solves between starting a background factorization of an n-DOF system and installing it.
+    static int handover_solves(Index n);
+
 private:
     void ensure_topology(StepReport& report);
     bool step_implicit(State& s, StepReport& report);
@@ -34,10 +55,22 @@ private:
     void external_reduced();
     double assemble(const MatX3& x, elasticity::ForceMode mode, bool with_K, StepReport& report);
     bool linear_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x, StepReport& report);
+    /// PcgLagged with the off-tick refactorization above.
+    LinearSolveResult lagged_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x);
 
     elasticity::ElasticModel* m_model;
     IntegratorOptions m_options;
     LinearSolver m_solver;
+    // PcgLagged only: the factor-preconditioned PCG (never refactors by itself), the block
+    // Jacobi bridge, the worker, and the hand-over schedule.
+    std::unique_ptr<solve::PcgSolver> m_lagged, m_bridge;
+    std::unique_ptr<solve::BackgroundCholesky> m_factor_job;
+    bool m_has_factor = false; ///< m_lagged holds a factor of the current pattern
+    bool m_pattern_changed = false; ///< a new pattern waits for its background factor
+    int m_handover_in = -1; ///< solves until the background factor is installed (-1: none)
+    bool m_job_for_new_pattern = false; ///< the running job replaces a wrong-pattern factor
+    int m_solves_since_factor = 0;
+    LaggedStatus m_lagged_status;
     VecX m_fext; ///< full (3#N)
     std::uint64_t m_topology = ~std::uint64_t(0);
     double m_divergence_limit = 0;
