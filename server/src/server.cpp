@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <thread>
+#include <time.h>
 
 namespace polycut::server {
 
@@ -38,6 +39,12 @@ SessionConfig session_config(const ServerConfig& c) {
 }
 
 } // namespace
+
+double thread_cpu_ms() {
+    timespec t {};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
 
 Server::Impl::Impl(ServerConfig cfg, std::atomic<bool>& stop_flag)
     : config(std::move(cfg))
@@ -140,14 +147,16 @@ void Server::Impl::run() {
 
 void Server::Impl::run_tick() {
     const auto t0 = Clock::now();
+    const double cpu0 = thread_cpu_ms();
     const sim::StepReport report = session.step();
+    const double step_cpu_ms = thread_cpu_ms() - cpu0;
     publish_surface(report, false);
     const double tick_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count()
         + command_ms_since_tick;
     command_ms_since_tick = 0.0;
     ++ticks_total;
     const double t = now_s();
-    recent_steps.emplace_back(t, report.step_ms);
+    recent_steps.push_back({ t, report.step_ms, step_cpu_ms });
     worst_tick_ms = std::max(worst_tick_ms, tick_ms);
     if (running && tick_ms > period_ms()) {
         ++ticks_over_budget;
@@ -164,21 +173,25 @@ void Server::Impl::run_tick() {
 
 void Server::Impl::housekeeping() {
     const double t = now_s();
-    while (!recent_steps.empty() && t - recent_steps.front().first > 1.0) {
+    while (!recent_steps.empty() && t - recent_steps.front().time_s > 1.0) {
         recent_steps.pop_front();
     }
     if (t - last_housekeeping_s < 0.25) {
         return;
     }
     last_housekeeping_s = t;
-    std::vector<double> sample;
+    std::vector<double> sample, cpu_sample;
     sample.reserve(recent_steps.size());
-    for (const auto& [when, ms] : recent_steps) {
-        sample.push_back(ms);
+    cpu_sample.reserve(recent_steps.size());
+    for (const RecentStep& step : recent_steps) {
+        sample.push_back(step.wall_ms);
+        cpu_sample.push_back(step.cpu_ms);
     }
     if (!sample.empty()) {
         step_p50_ms = percentile(sample, 50.0);
         step_p99_ms = percentile(sample, 99.0);
+        step_cpu_p50_ms = percentile(cpu_sample, 50.0);
+        step_cpu_p99_ms = percentile(cpu_sample, 99.0);
     }
     // Forget silent clients: their strokes and cached replies go with them.
     for (auto it = clients.begin(); it != clients.end();) {
@@ -207,9 +220,11 @@ void Server::Impl::log_line() {
     const double measured = elapsed > 0 ? double(ticks_total - ticks_at_last_log) / elapsed : 0.0;
     std::fprintf(stderr,
         "[info] polycut-server: tick %lld %s rate %.1f/%.1f Hz step p50 %.2f p99 %.2f ms "
-        "over-budget %llu worst %.1f ms requests %llu errors %llu clients %zu dropped %llu\n",
+        "(cpu p50 %.2f p99 %.2f) over-budget %llu worst %.1f ms requests %llu errors %llu "
+        "clients %zu dropped %llu\n",
         static_cast<long long>(session.tick()), running ? "running" : "paused", measured, rate_hz,
-        step_p50_ms, step_p99_ms, static_cast<unsigned long long>(ticks_over_budget), worst_tick_ms,
+        step_p50_ms, step_p99_ms, step_cpu_p50_ms, step_cpu_p99_ms,
+        static_cast<unsigned long long>(ticks_over_budget), worst_tick_ms,
         static_cast<unsigned long long>(requests), static_cast<unsigned long long>(errors),
         clients.size(), static_cast<unsigned long long>(stream_dropped));
 }

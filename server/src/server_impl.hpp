@@ -112,8 +112,14 @@ struct Server::Impl {
     std::uint64_t ticks_total = 0;
     double worst_tick_ms = 0.0;
     double command_ms_since_tick = 0.0; ///< command work since the last tick [ms]
-    std::deque<std::pair<double, double>> recent_steps; ///< (time [s], step [ms]), last second
+    /// A tick's step: when [s], wall and CPU time of the step [ms].
+    struct RecentStep {
+        double time_s = 0.0, wall_ms = 0.0, cpu_ms = 0.0;
+    };
+    std::deque<RecentStep> recent_steps; ///< the last second
     double step_p50_ms = 0.0, step_p99_ms = 0.0;
+    /// CPU time of the step on the loop thread [ms]: far below the wall time = a starved loop.
+    double step_cpu_p50_ms = 0.0, step_cpu_p99_ms = 0.0;
     double last_log_s = 0.0;
     std::uint64_t ticks_at_last_log = 0;
     double last_overrun_event_s = -1e9;

@@ -7,15 +7,18 @@
 // SIGINT/SIGTERM stop it cleanly. --replay plays a command log on a fresh simulation and prints
 // the final state as one JSON line (determinism checks, offline rendering).
 #include "polycut/common/error.hpp"
+#include "polycut/common/stats.hpp"
 #include "server.hpp"
 #include "server_command_log.hpp"
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -60,10 +63,38 @@ int replay(const std::string& log, const std::string& scene_dir, long until_tick
     if (until_tick >= 0) {
         until = until_tick;
     }
-    const auto summary = polycut::server::replay_command_log(log, session, {}, until);
+    // Step figures of the replay, to compare with the live server's (a live step much slower
+    // than the replayed one at the same work is CPU contention, not simulation work).
+    std::vector<double> step_ms, cpu_ms, iterations;
+    double cut_ms = 0.0, worst_cut_ms = 0.0;
+    double cpu_before = polycut::server::thread_cpu_ms();
+    const auto summary = polycut::server::replay_command_log(
+        log, session,
+        [&](const polycut::server::Session&, const polycut::sim::StepReport& report) {
+            const double cpu = polycut::server::thread_cpu_ms();
+            step_ms.push_back(report.step_ms);
+            cpu_ms.push_back(cpu - cpu_before); // includes the commands applied before the tick
+            cpu_before = cpu;
+            iterations.push_back(report.solver_iterations);
+            const double cut = report.cut_ms;
+            cut_ms += cut;
+            worst_cut_ms = std::max(worst_cut_ms, cut);
+        },
+        until);
+    auto figures = [](const std::vector<double>& v) {
+        if (v.empty()) {
+            return nlohmann::json(nullptr);
+        }
+        return nlohmann::json { { "p50", polycut::percentile(v, 50.0) },
+            { "p99", polycut::percentile(v, 99.0) },
+            { "max", *std::max_element(v.begin(), v.end()) } };
+    };
     const nlohmann::json out = { { "tick", summary.tick }, { "commands", summary.commands },
         { "rejected", summary.rejected }, { "state_hash", hex64(summary.state_hash) },
-        { "topology_version", summary.topology_version }, { "scene", summary.scene } };
+        { "topology_version", summary.topology_version }, { "scene", summary.scene },
+        { "step_ms", figures(step_ms) }, { "tick_cpu_ms", figures(cpu_ms) },
+        { "solver_iterations", figures(iterations) }, { "cut_ms_total", cut_ms },
+        { "cut_ms_max", worst_cut_ms } };
     std::cout << out.dump() << std::endl;
     return summary.rejected == 0 ? 0 : 1;
 }

@@ -169,8 +169,11 @@ sim::StepReport Session::step() {
     if (!m_sim) {
         return {};
     }
+    const double cut_before = m_cut_ms;
     const std::string rejected = flush_sweeps();
+    const double cut_ms = m_cut_ms - cut_before;
     sim::StepReport report = m_sim->step();
+    report.cut_ms = cut_ms;
     if (!rejected.empty()) {
         report.warnings.push_back("scalpel sweep rejected: " + rejected);
     }

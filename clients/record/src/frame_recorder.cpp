@@ -15,6 +15,7 @@ render::RenderConfig render_config(const RecordRender& settings) {
     config.width = settings.width;
     config.height = settings.height;
     config.msaa_samples = settings.msaa;
+    config.cull_back_faces = settings.cull_back_faces;
     return config;
 }
 

@@ -17,6 +17,10 @@ struct RecordRender {
     int width = 640; ///< [px]
     int height = 480; ///< [px]
     int msaa = 4; ///< multisample count (0 = off)
+    /// Cull back faces: the server's surface (skin + cut faces) is closed and oriented
+    /// outwards (protocol.md), so the image is the same and llvmpipe draws half the triangles.
+    /// `--two-sided` turns it off for surfaces that are not.
+    bool cull_back_faces = true;
     /// Also write every `still_every`-th rendered frame as a PNG here ("" = no stills).
     std::string stills_dir;
     long still_every = 60; ///< [frames], > 0

@@ -36,6 +36,7 @@ std::string record_usage() {
            "                      (--png-dir DIR | --mp4 FILE) [--size WxH] [--msaa N] [--fps F]\n"
            "                      [--stills DIR] [--still-every N] [--timeout S] [--nice N] "
            "[--quiet]\n"
+           "                      [--two-sided]\n"
            "       polycut-record --offline SCENE.json [--commands LOG] [--scene-dir DIR]\n"
            "                      [--every K] [--frames N] (--png-dir DIR | --mp4 FILE) ...\n"
            "Live: subscribes to a running polycut-server and renders every K-th stream frame\n"
@@ -58,6 +59,10 @@ RecordCommand parse_record_command(const std::vector<std::string>& args) {
         }
         if (a == "--quiet") {
             command.quiet = true;
+            continue;
+        }
+        if (a == "--two-sided") {
+            command.render.cull_back_faces = false;
             continue;
         }
         if (i + 1 >= args.size()) {
