@@ -220,18 +220,40 @@ void ElasticModel::rebuild_topology() {
 }
 
 void ElasticModel::update_cells(const std::vector<Index>& changed) {
-    if (std::size_t(m_mesh->num_cells()) != m_cells.size()
-        || 3 * std::size_t(m_mesh->num_nodes()) != m_fixed.size()) {
+    const std::size_t old_cells = m_cells.size();
+    const std::size_t n_cells = std::size_t(m_mesh->num_cells());
+    const std::size_t n_dofs = 3 * std::size_t(m_mesh->num_nodes());
+    // Removing cells or nodes renumbers them: nothing cached can be matched up any more.
+    if (n_cells < old_cells || n_dofs < m_fixed.size()) {
         rebuild_topology();
         return;
     }
-    bool topology = false;
-    for (Index c : changed) {
-        if (c < 0 || c >= m_mesh->num_cells())
+    for (Index c : changed)
+        if (c < 0 || std::size_t(c) >= n_cells)
             throw InputError("changed", "cell id out of range");
-        topology |= m_cells[std::size_t(c)].nodes != m_mesh->cells[std::size_t(c)].nodes;
+    // Only the listed cells and the appended ones get a new basis, quadrature and Ke, once
+    // (000 sec. 5.1); appended nodes are free until set_fixed_dofs() says otherwise.
+    bool topology = n_cells != old_cells || n_dofs != m_fixed.size();
+    m_fixed.resize(n_dofs, 0);
+    m_cells.resize(n_cells);
+    m_rotation.resize(n_cells, Mat3::Identity());
+    m_p1.resize(n_cells);
+    std::vector<Index> todo(changed);
+    for (std::size_t c = old_cells; c < n_cells; ++c)
+        todo.push_back(Index(c));
+    std::sort(todo.begin(), todo.end());
+    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    for (Index c : todo) {
+        const std::size_t k = std::size_t(c);
+        topology |= m_cells[k].nodes != m_mesh->cells[k].nodes;
+        // A child of a split starts from its parent's rotation (warm start of the polar
+        // decomposition); changed cells keep theirs.
+        const Index parent = m_mesh->cells[k].parent;
+        if (k >= old_cells)
+            m_rotation[k] = parent >= 0 && std::size_t(parent) < old_cells
+                ? m_rotation[std::size_t(parent)]
+                : Mat3::Identity();
         compute_cell(c);
-        m_rotation[std::size_t(c)] = Mat3::Identity();
     }
     if (topology)
         rebuild_pattern();

@@ -6,6 +6,8 @@
 #include "polycut/geometry/affine_fit.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace polycut::sim {
@@ -60,34 +62,81 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // extrapolates from single boundary cells and tilts the plane (cut_slices merged its 1 mm
     // slices), so the joint fit stays until WorldToRest clips triangles to the tissue first. Exact
     // where the deformation is affine over those cells (always at rest).
+    // Corners shared with earlier triangles of the stroke (the blade's previous position, the
+    // diagonal of a swept quad) reuse their rest image, so consecutive triangles meet exactly in
+    // rest space instead of differing by two fits. The new corners of such a triangle are put
+    // onto its predecessor's rest plane when they lie within kStrokePlane x (mean cell size) of
+    // it: a straight stroke through a deforming tissue is then one rest plane, as it would be at
+    // rest, and does not re-split the cells along its crack into slivers every tick (the fits of
+    // successive ticks differ by a small fraction of a cell). A curved stroke leaves the plane
+    // as soon as it bends by more than that.
+    constexpr double kStrokePlane = 0.02;
+    const double cell_size
+        = std::cbrt(s.mesh.rest_volume() / double(std::max<Index>(1, s.mesh.num_cells())));
+    const double same = 1e-9 * L;
+    auto cached = [&](const Vec3& p) -> const Impl::StrokeCorner* {
+        for (const Impl::StrokeCorner& c : s.stroke_corners)
+            if ((c.world - p).norm() <= same)
+                return &c;
+        return nullptr;
+    };
     std::vector<cut::Triangle> rest;
     for (const auto& tri : world) {
-        const geometry::Aabb tb = triangle_box(tri);
-        std::set<Index> nodes;
-        for (Index c = 0; c < s.mesh.num_cells(); ++c) {
-            geometry::Aabb cb;
-            for (Index n : s.mesh.cells[std::size_t(c)].nodes)
-                cb.extend(s.positions[std::size_t(n)]);
-            if (cb.overlaps(tb))
-                nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(),
-                    s.mesh.cells[std::size_t(c)].nodes.end());
-        }
-        if (nodes.size() < 4)
-            continue; // outside the tissue: nothing to cut
-        std::vector<Vec3> X, x;
-        for (Index n : nodes) {
-            X.push_back(s.mesh.rest[std::size_t(n)]);
-            x.push_back(s.positions[std::size_t(n)]);
-        }
-        const geometry::AffineFit fit = geometry::fit_affine(X, x);
-        if (!fit.ok || std::abs(fit.A.determinant()) < 1e-12)
-            continue;
-        const Mat3 Ainv = fit.A.inverse();
         cut::Triangle r;
+        std::array<bool, 3> known {};
+        const Impl::StrokeCorner* previous = nullptr;
         for (std::size_t k = 0; k < 3; ++k)
-            r[k] = Ainv * (tri[k] - fit.t);
+            if (const Impl::StrokeCorner* c = cached(tri[k])) {
+                r[k] = c->rest;
+                known[k] = true;
+                previous = previous ? previous : c;
+            }
+        if (!(known[0] && known[1] && known[2])) {
+            const geometry::Aabb tb = triangle_box(tri);
+            std::set<Index> nodes;
+            for (Index c = 0; c < s.mesh.num_cells(); ++c) {
+                geometry::Aabb cb;
+                for (Index n : s.mesh.cells[std::size_t(c)].nodes)
+                    cb.extend(s.positions[std::size_t(n)]);
+                if (cb.overlaps(tb))
+                    nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(),
+                        s.mesh.cells[std::size_t(c)].nodes.end());
+            }
+            if (nodes.size() < 4)
+                continue; // outside the tissue: nothing to cut
+            std::vector<Vec3> X, x;
+            for (Index n : nodes) {
+                X.push_back(s.mesh.rest[std::size_t(n)]);
+                x.push_back(s.positions[std::size_t(n)]);
+            }
+            const geometry::AffineFit fit = geometry::fit_affine(X, x);
+            if (!fit.ok || std::abs(fit.A.determinant()) < 1e-12)
+                continue;
+            const Mat3 Ainv = fit.A.inverse();
+            for (std::size_t k = 0; k < 3; ++k)
+                if (!known[k]) {
+                    r[k] = Ainv * (tri[k] - fit.t);
+                    if (previous) {
+                        const double d = previous->normal.dot(r[k]) - previous->offset;
+                        if (std::abs(d) <= kStrokePlane * cell_size)
+                            r[k] -= d * previous->normal;
+                    }
+                }
+        }
+        const Vec3 normal = (r[1] - r[0]).cross(r[2] - r[0]);
+        if (!(normal.norm() > 0))
+            continue; // collapsed in rest space: nothing to cut
+        const Vec3 n = normal.normalized();
+        for (std::size_t k = 0; k < 3; ++k)
+            if (!known[k])
+                s.stroke_corners.push_back({ tri[k], r[k], n, n.dot(r[k]) });
         rest.push_back(r);
     }
+    // Only the recent corners can be shared by the next triangles.
+    constexpr std::size_t kKeep = 64;
+    if (s.stroke_corners.size() > kKeep)
+        s.stroke_corners.erase(
+            s.stroke_corners.begin(), s.stroke_corners.end() - std::ptrdiff_t(kKeep));
     if (rest.empty()) {
         summary.cut_ms = watch.ms();
         summary.cells_after = s.mesh.num_cells();
@@ -106,6 +155,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
 }
 
 void Simulation::end_stroke() {
+    m_impl->stroke_corners.clear();
     if (m_impl->snap_cutter)
         m_impl->snap_cutter->end_sweep();
 }

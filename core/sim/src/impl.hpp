@@ -42,6 +42,19 @@ struct Simulation::Impl {
     std::unique_ptr<integrate::Integrator> integrator;
     std::unique_ptr<cut::Cutter> cutter; ///< cutting.method "split"
     std::unique_ptr<cut::SnapCutter> snap_cutter; ///< cutting.method "snap" (tet meshes)
+    /// A sweep corner of the current stroke already mapped to rest space, with the rest plane
+    /// of the triangle that mapped it.
+    struct StrokeCorner {
+        Vec3 world; ///< [m]
+        Vec3 rest; ///< [m]
+        Vec3 normal; ///< unit normal of the rest plane
+        double offset = 0; ///< normal . x of the rest plane [m]
+    };
+    /// Corners of the current stroke (cleared by end_stroke() and reset()). A corner the blade
+    /// shares with an earlier triangle reuses its rest image, so consecutive triangles meet
+    /// exactly in rest space (the blade traces material points), and the new corners of a
+    /// continuing triangle snap onto its predecessor's plane when they are that close.
+    std::vector<StrokeCorner> stroke_corners;
     integrate::State state;
     VecX scene_forces; ///< (3#N) constant nodal loads from the scene [N]
     VecX f_ext; ///< (3#N) work vector [N]

@@ -52,6 +52,7 @@ void Simulation::Impl::build() {
 }
 
 void Simulation::reset() {
+    m_impl->stroke_corners.clear();
     m_impl->build();
     ++m_impl->topology_version;
 }

@@ -12,8 +12,9 @@ namespace polycut::elasticity {
 MatX strain_displacement(const MatX3& gradients);
 
 /// Element stiffness (3n x 3n) [N/m], symmetric positive semi-definite with the six rigid modes
-/// in its kernel. Computed block-wise: K_ij = sum_q w_q (lambda g_i g_j^T + mu g_j g_i^T +
-/// mu (g_i . g_j) I), which equals sum_q w_q B^T C B.
+/// in its kernel. Up to 8 nodes computed block-wise: K_ij = sum_q w_q (lambda g_i g_j^T +
+/// mu g_j g_i^T + mu (g_i . g_j) I), which equals sum_q w_q B^T C B; larger cells as one
+/// rank-k product S^T S of the stacked rows sqrt(w_q) L^T B_q, C = L L^T.
 MatX element_stiffness(const basis::CellIntegration& ci, const Material& material);
 
 } // namespace polycut::elasticity
