@@ -5,7 +5,9 @@
 #include "polycut/cut/snap_cutter.hpp"
 #include "polycut/mesh/builders.hpp"
 
+#include <algorithm>
 #include <gtest/gtest.h>
+#include <random>
 #include <vector>
 
 namespace snaptest {
@@ -68,6 +70,42 @@ inline void expect_report_consistent(const mesh::Mesh& m, const cut::CutReport& 
     if (!r.cell_map.empty()) {
         EXPECT_EQ(Index(r.cell_map.size()), r.cells_before);
     }
+}
+
+/// Smallest aspect ratio and largest dihedral angle [rad] over the tets of m, and the number of
+/// tets degenerate by the options' thresholds (002 sec. 3.2.3: aspect < 0.01 or an angle
+/// > 0.99 pi by default).
+struct Quality {
+    double min_aspect = 1, max_dihedral = 0;
+    Index degenerate = 0;
+};
+inline Quality quality(const mesh::Mesh& m, const cut::SnapOptions& o) {
+    Quality q;
+    for (const auto& cell : m.cells) {
+        const auto X = [&](std::size_t i) { return m.rest[std::size_t(cell.nodes[i])]; };
+        const double a = cut::tet_aspect_ratio(X(0), X(1), X(2), X(3));
+        double d = 0;
+        for (double t : cut::tet_dihedral_angles(X(0), X(1), X(2), X(3)))
+            d = std::max(d, t);
+        q.min_aspect = std::min(q.min_aspect, a);
+        q.max_dihedral = std::max(q.max_dihedral, d);
+        q.degenerate += a < o.degenerate_aspect || d > o.large_dihedral ? 1 : 0;
+    }
+    return q;
+}
+
+/// A [0, 0.1]^3 block of n^3 grid cells split into tets, with interior nodes moved by up to
+/// `jitter` times the spacing h = 0.1 / n in each coordinate [m].
+inline mesh::Mesh jittered_block(int n, mesh::TetSplit split, double jitter, std::mt19937& rng) {
+    mesh::BoxGrid g;
+    g.hi = Vec3::Constant(0.1);
+    g.cells = Eigen::Vector3i(n, n, n);
+    auto m = mesh::tet_grid(g, split);
+    std::uniform_real_distribution<double> J(-jitter * 0.1 / n, jitter * 0.1 / n);
+    for (auto& X : m.rest)
+        if ((X.array() > 1e-9).all() && (X.array() < 0.1 - 1e-9).all())
+            X += Vec3(J(rng), J(rng), J(rng));
+    return m;
 }
 
 inline std::size_t hash_mesh(const mesh::Mesh& m) {

@@ -8,10 +8,15 @@
 // with a constant cell count we hold such faces back instead (newest first) and retry them after
 // later triangles, when the cut around them has grown and their nodes separate. This is the lag
 // between sweep and incision 002 Fig. 3.4 describes, one face row wider at a narrow crack tip.
-#include "snap_state.hpp"
+// A face still held back where the sweep has passed all around its pinched edges will not be
+// freed by later triangles (the pinch comes from the shape of the selected surface, e.g. a hole
+// left by a refused snap): there the pinched edges are split at their midpoints, as the
+// cell-splitting cutter does, and the face is cut (the midpoint nodes separate the two sides).
+#include "snap_model.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 #include <unordered_set>
 
@@ -166,6 +171,52 @@ Index keep_small_pieces(State& s, std::unordered_set<Index>& take, std::vector<I
     return merged;
 }
 
+// Whether the sweep has passed all around x: for a recent triangle holding x, the circle of
+// radius r around x in its plane (12 points) lies in the union of the recent triangles.
+bool swept_around(const State& s, const Vec3& x, double r) {
+    const double eps = s.opt.plane_eps * s.L;
+    auto inside = [&](const SweepPlane& P, const Vec3& q, double tol) {
+        if (std::abs(P.distance(q)) > tol)
+            return false;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& p = P.tri[std::size_t(k)];
+            const Vec3& p2 = P.tri[std::size_t((k + 1) % 3)];
+            if ((p2 - p).cross(q - p).dot(P.normal) < -eps * (p2 - p).norm())
+                return false;
+        }
+        return true;
+    };
+    for (const SweepPlane& P : s.recent) {
+        if (!inside(P, x, r))
+            continue;
+        const Vec3 u = P.normal.unitOrthogonal(), v = P.normal.cross(u);
+        const Vec3 x0 = x - P.distance(x) * P.normal;
+        bool all = true;
+        for (int i = 0; i < 12 && all; ++i) {
+            const double t = std::numbers::pi * i / 6.0;
+            const Vec3 q = x0 + r * (std::cos(t) * u + std::sin(t) * v);
+            all = std::any_of(s.recent.begin(), s.recent.end(),
+                [&](const SweepPlane& R) { return inside(R, q, r); });
+        }
+        if (all)
+            return true;
+    }
+    return false;
+}
+
+// Longest edge [m] of the tets around edge (a, b).
+double ring_size(const State& s, Index a, Index b) {
+    double r = 0;
+    for (Index c : at(s.node_cells, a)) {
+        const auto& t = at(s.m.cells, c).nodes;
+        if (!has(t, b))
+            continue;
+        for (const auto& [i, j] : kTetEdges)
+            r = std::max(r, (s.X(t[std::size_t(i)]) - s.X(t[std::size_t(j)])).norm());
+    }
+    return r;
+}
+
 void replace_node(std::vector<Index>& v, Index from, Index to) {
     std::replace(v.begin(), v.end(), from, to);
 }
@@ -301,6 +352,70 @@ void dissect_pending(State& s) {
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     for (Index n : nodes)
         split_node(s, n);
+    if (!s.pending.empty())
+        open_pinches(s);
+}
+
+void open_pinches(State& s) {
+    // Pending faces whose pinched edges all lie where the sweep has passed all around, chosen
+    // greedily: cutting a face can pinch only its own edges, and only cuts at a node can split
+    // its star, so faces chosen earlier stay resolved by their own edge splits.
+    std::unordered_set<Index> chosen;
+    std::vector<Index> faces, rest;
+    std::vector<std::pair<Index, Index>> edges;
+    for (Index f : s.pending) {
+        const mesh::Face& face = at(s.m.faces, f);
+        if (face.boundary())
+            continue;
+        chosen.insert(f);
+        const Pinch pinch { s, chosen };
+        std::vector<std::pair<Index, Index>> mine;
+        bool ok = true;
+        for (std::size_t k = 0; k < 3 && ok; ++k) {
+            const Index a = face.nodes[k], b = face.nodes[(k + 1) % 3];
+            if (!pinch.pinched(a, b))
+                continue;
+            const double r = ring_size(s, a, b);
+            ok = swept_around(s, s.X(a), r) && swept_around(s, s.X(b), r);
+            mine.emplace_back(std::min(a, b), std::max(a, b));
+        }
+        if (!ok || mine.empty()) {
+            chosen.erase(f);
+            rest.push_back(f);
+            continue;
+        }
+        faces.push_back(f);
+        edges.insert(edges.end(), mine.begin(), mine.end());
+    }
+    if (faces.empty())
+        return;
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    Model md { s, {} };
+    md.load_labels();
+    std::vector<Index> nodes;
+    for (Index f : faces) {
+        const mesh::Face& face = at(s.m.faces, f);
+        for (Index c : { face.owner, face.neighbour }) {
+            const auto& t = at(s.m.cells, c).nodes;
+            for (std::size_t k = 0; k < 4; ++k)
+                if (!has(face.nodes, t[k]))
+                    at(md.labels, c)[k] = std::uint8_t(mesh::FaceTag::Cut);
+        }
+        nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
+        ++s.stats.faces_dissected;
+    }
+    for (const auto& [a, b] : edges) {
+        nodes.push_back(md.split({ a, b }, 0.5 * (s.X(a) + s.X(b)), mix(s, a, b, 0.5)));
+        ++s.stats.pinches_split;
+    }
+    s.pending = std::move(rest);
+    const auto nmap = rebuild_faces(md);
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    for (Index n : nodes)
+        if (at(nmap, n) != kNone)
+            split_node(s, at(nmap, n));
 }
 
 } // namespace polycut::cut::snap

@@ -111,6 +111,10 @@ std::vector<Index> snap_face_nodes(
 // snap_dissect.cpp: dissects the pending faces that do not pinch an edge.
 void dissect_pending(State& s);
 
+/// Cuts pending faces held back at pinched edges where the sweep has passed all around those
+/// edges: the edges are split at their midpoints and the faces dissected.
+void open_pinches(State& s);
+
 /// Duplicates node n once per group of its tets not connected through interior faces at n.
 void split_node(State& s, Index n);
 

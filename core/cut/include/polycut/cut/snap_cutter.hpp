@@ -4,14 +4,16 @@
 // onto the sweep plane (boundary nodes only within their boundary faces); the mesh is dissected
 // along the selected faces (nodes duplicated where the cells around them fell apart); finally flat
 // tets (needle, spindle, sliver, cap) are collapsed. The cell count stays constant except for
-// degeneracy removal.
+// degeneracy removal and the rare split of an edge where the selected faces pinch it behind the
+// sweep.
 //
 // Mutation contract: a call moves rest positions of the nodes it lists in CutReport::moved_nodes,
-// appends nodes (duplicates, and edge/face nodes of degeneracy removal), appends Cut faces and
-// rewrites node ids inside cells and faces. Without degeneracy removal node, cell and face ids stay
-// valid. When a degenerate tet is collapsed, cells and nodes are compacted (CutReport::cell_map,
-// CutReport::node_map) and the face table is rebuilt (face ids renumbered). Invalid input throws
-// InputError before anything changes.
+// appends nodes (duplicates, edge/face nodes of degeneracy removal and of pinch splits), appends
+// Cut faces and rewrites node ids inside cells and faces. Without degeneracy removal and pinch
+// splits node, cell and face ids stay valid. When a degenerate tet is collapsed or an edge split,
+// cells and nodes are compacted (CutReport::cell_map, CutReport::node_map when something was
+// removed) and the face table is rebuilt (face ids renumbered). Invalid input throws InputError
+// before anything changes.
 #pragma once
 
 #include "polycut/cut/cut_options.hpp"
@@ -71,6 +73,9 @@ struct SnapStats {
     Index faces_selected = 0; ///< faces selected by closest nodes (002 sec. 3.2.1)
     Index faces_dissected = 0; ///< selected faces turned into pairs of Cut faces
     Index faces_pending = 0; ///< selected faces held back (would pinch an edge); retried later
+    /// Pinched edges split at their midpoints to cut held-back faces where the sweep has passed
+    /// all around them (the pinch would not resolve by itself).
+    Index pinches_split = 0;
     Index nodes_snapped = 0; ///< node moves onto a sweep plane
     Index snaps_refused = 0; ///< node moves refused by the snap_min_aspect guard
     /// Degenerate tets found (first pass of each triangle): aspect ratio below
