@@ -81,6 +81,7 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles) {
         detail::separate(ed, crack);
     }
     detail::fix_pinched_edges(ed);
+    detail::merge_slivers(ed);
     ed.end();
     report.elapsed_ms = watch.ms();
     return report;
@@ -121,6 +122,7 @@ CutReport Cutter::split_by_plane(
         detail::split_cell(ed, cls, c, iface);
     }
     detail::fix_pinched_edges(ed);
+    detail::merge_slivers(ed);
     ed.end();
     report.elapsed_ms = watch.ms();
     return report;

@@ -14,6 +14,11 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri);
 /// cells are no longer connected around them, and inserts a pocket node when nothing opened.
 void separate(Editor& ed, const std::vector<Index>& crack);
 
+/// Merges the cells a call left with less than CutOptions::sliver_volume of the volume of their
+/// largest interior neighbour into the neighbour whose union with them stays convex (000 sec. 4);
+/// compacts cells and faces and fills CutReport::{cell_map, removed_cells, slivers_merged}.
+void merge_slivers(Editor& ed);
+
 /// Splits edges still shared by cells that a cut separated around them (non-manifold boundary
 /// edges), at their midpoints, and separates the midpoints. Looks at the changed cells only.
 void fix_pinched_edges(Editor& ed);

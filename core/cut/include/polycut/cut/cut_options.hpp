@@ -25,8 +25,9 @@ struct CutOptions {
     double max_extent = 1e3;
     /// Insert a pocket node when a cut polygon covers no node that could separate (000 sec. 5.2).
     bool pockets = true;
-    /// Cells whose rest volume after a split is below sliver_volume * (volume of the parent
-    /// cell) are merged with a face neighbour when the union stays convex (000 sec. 4).
+    /// Cells a call leaves with a rest volume below sliver_volume * (volume of their largest
+    /// interior face neighbour) are merged with the neighbour whose union with them is convex
+    /// up to round-off (000 sec. 4); slivers with no such neighbour are kept and counted.
     double sliver_volume = 1e-3;
     /// Merge slivers (see sliver_volume).
     bool merge_slivers = true;
