@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
                 rec.has_cuts = true;
                 rec.cut_triangles += long(sweeps[next_sweep].triangles.size());
                 rec.cut_ms.push_back(cut.cut_ms);
+                rec.pieces_fixed += cut.pieces_fixed;
                 ++next_sweep;
             }
             if (s >= steps)

@@ -34,8 +34,8 @@ nlohmann::json to_json(const RunRecord& r) {
         { "max_residual", r.max_residual }, { "rolled_back_steps", r.rolled_back } };
     if (r.has_cuts) {
         const double vb = r.before.rest_volume, va = r.after.rest_volume;
-        j["cut"] = { { "triangles", r.cut_triangles }, { "rest_volume_before", vb },
-            { "rest_volume_after", va },
+        j["cut"] = { { "triangles", r.cut_triangles }, { "pieces_fixed", r.pieces_fixed },
+            { "rest_volume_before", vb }, { "rest_volume_after", va },
             { "rest_volume_relative_change", vb > 0 ? std::abs(va - vb) / vb : 0.0 },
             { "surface_closed", r.after.surface_closed }, { "components", r.after.components },
             { "max_cut_ms",

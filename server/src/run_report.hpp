@@ -25,6 +25,7 @@ struct RunRecord {
     std::vector<std::string> warnings;
     bool has_cuts = false;
     long cut_triangles = 0;
+    long pieces_fixed = 0; ///< static scenes: free pieces fixed at one face after cuts
     std::vector<std::pair<std::string, Vec3>> probes;
 };
 

@@ -4,6 +4,7 @@
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/affine_fit.hpp"
+#include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 
 #include <algorithm>
@@ -147,8 +148,11 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     summary.cells_split = int(report.new_cells.size());
     summary.nodes_added = int(report.nodes_after - report.nodes_before);
     summary.topology_changed = report.topology_changed;
-    if (report.topology_changed)
+    if (report.topology_changed) {
         s.resize_state_after_cut(report);
+        if (is_static())
+            summary.pieces_fixed = s.fix_free_pieces();
+    }
     summary.cells_after = s.mesh.num_cells();
     summary.cut_ms = watch.ms();
     return summary;
@@ -233,6 +237,62 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     static_solved = false;
     sync_positions();
     refresh_topology();
+}
+
+int Simulation::Impl::fix_free_pieces() {
+    // Connected pieces of cells through shared nodes (union-find over cells).
+    const Index nc = mesh.num_cells();
+    std::vector<Index> root(std::size_t(nc), kNone);
+    for (Index c = 0; c < nc; ++c)
+        root[std::size_t(c)] = c;
+    auto find = [&](Index c) {
+        while (root[std::size_t(c)] != c)
+            c = root[std::size_t(c)] = root[std::size_t(root[std::size_t(c)])];
+        return c;
+    };
+    std::vector<Index> node_cell(std::size_t(mesh.num_nodes()), kNone);
+    for (Index c = 0; c < nc; ++c)
+        for (Index n : mesh.cells[std::size_t(c)].nodes) {
+            Index& first = node_cell[std::size_t(n)];
+            if (first == kNone)
+                first = c;
+            else
+                root[std::size_t(find(c))] = find(first);
+        }
+    std::vector<char> anchored(std::size_t(nc), 0);
+    for (Index c = 0; c < nc; ++c)
+        for (Index n : mesh.cells[std::size_t(c)].nodes)
+            for (std::size_t k = 0; k < 3; ++k)
+                if (node_fixed_mask[3 * std::size_t(n) + k])
+                    anchored[std::size_t(find(c))] = 1;
+    // Each free piece: fix the nodes of its largest boundary face.
+    std::vector<Index> face_of(std::size_t(nc), kNone);
+    std::vector<double> area_of(std::size_t(nc), 0.0);
+    for (Index f = 0; f < mesh.num_faces(); ++f) {
+        const mesh::Face& face = mesh.faces[std::size_t(f)];
+        if (!face.boundary())
+            continue;
+        const Index r = find(face.owner);
+        if (anchored[std::size_t(r)])
+            continue;
+        const double a = geometry::polygon_area(geometry::gather(mesh.rest, face.nodes));
+        if (a > area_of[std::size_t(r)]) {
+            area_of[std::size_t(r)] = a;
+            face_of[std::size_t(r)] = f;
+        }
+    }
+    int fixed = 0;
+    for (Index r = 0; r < nc; ++r) {
+        if (face_of[std::size_t(r)] == kNone)
+            continue;
+        for (Index n : mesh.faces[std::size_t(face_of[std::size_t(r)])].nodes)
+            for (std::size_t k = 0; k < 3; ++k)
+                node_fixed_mask[3 * std::size_t(n) + k] = 1;
+        ++fixed;
+    }
+    if (fixed > 0)
+        model->set_fixed_dofs(node_fixed_mask);
+    return fixed;
 }
 
 } // namespace polycut::sim

@@ -55,6 +55,9 @@ struct Simulation::Impl {
     /// exactly in rest space (the blade traces material points), and the new corners of a
     /// continuing triangle snap onto its predecessor's plane when they are that close.
     std::vector<StrokeCorner> stroke_corners;
+    /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
+    /// returns how many pieces it fixed.
+    int fix_free_pieces();
     integrate::State state;
     VecX scene_forces; ///< (3#N) constant nodal loads from the scene [N]
     VecX f_ext; ///< (3#N) work vector [N]

@@ -60,6 +60,9 @@ struct CutSummary {
     int nodes_added = 0;
     int cells_before = 0, cells_after = 0;
     bool topology_changed = false;
+    /// Static scenes: pieces the cut freed from every fixed node, each now fixed at one of its
+    /// boundary faces (as 002 sec. 3.3 does) so the static problem stays well posed.
+    int pieces_fixed = 0;
     double cut_ms = 0;
 };
 
