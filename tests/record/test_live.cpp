@@ -115,7 +115,9 @@ TEST(Bench, ReportsLatencyDistributionsAndWritesTheHistogram) {
     }
     EXPECT_GT(report["command_to_visible_ms"]["count"].get<long>(), 10);
     EXPECT_GT(report["control_rtt_ms"]["count"].get<long>(), 10);
-    EXPECT_GT(report["server"]["step_ms"]["count"].get<long>(), 30);
+    // 90 ticks at 60 Hz in 1.5 s on an idle machine; a loaded 2-core machine ticks slower (24
+    // were seen at load 12), so only "many ticks were sampled" is asserted.
+    EXPECT_GT(report["server"]["step_ms"]["count"].get<long>(), 10);
     // A command becomes visible at a tick boundary after it was sent: at least one tick later.
     EXPECT_GE(report["command_to_visible_ticks"]["p50"].get<double>(), 1.0);
     EXPECT_EQ(report["stream"]["extra_subscriber_frames"].size(), 2u);
