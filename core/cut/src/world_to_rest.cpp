@@ -19,11 +19,11 @@ void WorldToRest::refit_displaced(const MatX3& u) {
     refit(world);
 }
 
-void WorldToRest::refit(std::span<const Vec3> world) {
+void WorldToRest::refit(std::span<const Vec3> world, bool with_fits) {
     m_world.assign(world.begin(), world.end());
     const std::size_t nc = m_mesh.cells.size();
-    m_fit.assign(nc, {});
-    m_inverse.assign(nc, Mat3::Identity());
+    m_fit.assign(with_fits ? nc : 0, {});
+    m_inverse.assign(with_fits ? nc : 0, Mat3::Identity());
     m_box.assign(nc, {});
     m_all = {};
     std::vector<Vec3> X, x;
@@ -36,6 +36,8 @@ void WorldToRest::refit(std::span<const Vec3> world) {
             m_box[c].extend(m_world[std::size_t(n)]);
         }
         m_all.extend(m_box[c]);
+        if (!with_fits)
+            continue;
         m_fit[c] = geometry::fit_affine(X, x);
         const double det = m_fit[c].A.determinant();
         m_inverse[c] = std::abs(det) > 1e-12 ? Mat3(m_fit[c].A.inverse()) : Mat3::Identity();

@@ -58,7 +58,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         s.cutter = std::make_unique<cut::Cutter>(s.mesh, opt);
     }
     // World to rest (DESIGN.md sec. 3): each triangle through ONE least-squares affine fit of the
-    // nodes of the cells whose deformed bounds it touches. cut::WorldToRest maps each corner
+    // nodes of the cells whose deformed bounds it touches (found through a uniform grid over the
+    // deformed cell bounds, refitted once per call). cut::WorldToRest maps each corner
     // through its own cell instead; for sweeps whose corners lie far outside the tissue that
     // extrapolates from single boundary cells and tilts the plane (cut_slices merged its 1 mm
     // slices), so the joint fit stays until WorldToRest clips triangles to the tissue first. Exact
@@ -81,6 +82,9 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                 return &c;
         return nullptr;
     };
+    if (!s.locator)
+        s.locator = std::make_unique<cut::WorldToRest>(s.mesh);
+    bool located = false; // the grid is refitted once per call, when first needed
     std::vector<cut::Triangle> rest;
     for (const auto& tri : world) {
         cut::Triangle r;
@@ -95,14 +99,13 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         if (!(known[0] && known[1] && known[2])) {
             const geometry::Aabb tb = triangle_box(tri);
             std::set<Index> nodes;
-            for (Index c = 0; c < s.mesh.num_cells(); ++c) {
-                geometry::Aabb cb;
-                for (Index n : s.mesh.cells[std::size_t(c)].nodes)
-                    cb.extend(s.positions[std::size_t(n)]);
-                if (cb.overlaps(tb))
-                    nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(),
-                        s.mesh.cells[std::size_t(c)].nodes.end());
+            if (!located) {
+                s.locator->refit(s.positions, false);
+                located = true;
             }
+            for (Index c : s.locator->candidates(tb))
+                nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(),
+                    s.mesh.cells[std::size_t(c)].nodes.end());
             if (nodes.size() < 4)
                 continue; // outside the tissue: nothing to cut
             std::vector<Vec3> X, x;

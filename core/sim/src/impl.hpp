@@ -3,6 +3,7 @@
 
 #include "polycut/cut/cutter.hpp"
 #include "polycut/cut/snap_cutter.hpp"
+#include "polycut/cut/world_to_rest.hpp"
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/integrate/integrator.hpp"
 #include "polycut/integrate/options.hpp"
@@ -55,6 +56,9 @@ struct Simulation::Impl {
     /// exactly in rest space (the blade traces material points), and the new corners of a
     /// continuing triangle snap onto its predecessor's plane when they are that close.
     std::vector<StrokeCorner> stroke_corners;
+    /// Uniform grid over the deformed cell bounds, refitted at each cut call: finds the cells a
+    /// sweep triangle touches without scanning the mesh per triangle.
+    std::unique_ptr<cut::WorldToRest> locator;
     /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
     /// returns how many pieces it fixed.
     int fix_free_pieces();

@@ -41,6 +41,7 @@ void Simulation::Impl::build() {
     integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
     cutter.reset();
     snap_cutter.reset();
+    locator.reset();
     state = integrator->rest_state();
     forces.clear();
     grabs.clear();

@@ -20,8 +20,10 @@ public:
     explicit WorldToRest(const mesh::Mesh& mesh);
 
     /// Refits every cell's affine map and the grid to the current world positions (#N) [m].
-    /// Call once per tick, and after each cut (the topology changed). O(mesh).
-    void refit(std::span<const Vec3> world);
+    /// Call once per tick, and after each cut (the topology changed). O(mesh). With
+    /// `with_fits` false only the deformed bounds and the grid are refitted (for candidates());
+    /// map_point(), locate() and map_triangle() then need a full refit first.
+    void refit(std::span<const Vec3> world, bool with_fits = true);
     /// Same with displacements u (#N x 3) [m]: world = rest + u.
     void refit_displaced(const MatX3& u);
 
