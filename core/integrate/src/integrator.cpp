@@ -173,6 +173,8 @@ bool Integrator::linear_solve(
     report.solver_iterations += r.iterations;
     report.residual = r.relative_residual;
     report.status = r.status;
+    if (!r.warning.empty())
+        report.warnings.push_back(r.warning);
     if (r.status != solve::SolveStatus::Ok) {
         report.warnings.push_back(
             std::string("linear solve failed: ") + solve::to_string(r.status));

@@ -77,6 +77,8 @@ LinearSolveResult LinearSolver::solve(
     if (p.status == solve::SolveStatus::NotReady && m_options.kind == LinearSolverKind::PcgAmg) {
         // hypre/MPI unusable in this process (m_pcg.setup_error() says why): go on with Jacobi
         // rather than fail every step
+        r.warning = "AMG preconditioner unavailable (" + m_pcg.setup_error()
+            + "): using Jacobi PCG from now on";
         solve::PcgOptions jacobi = m_pcg.options();
         jacobi.preconditioner = solve::Preconditioner::Jacobi;
         m_pcg = solve::PcgSolver(jacobi);

@@ -6,6 +6,8 @@
 #include "polycut/solve/cholmod_solver.hpp"
 #include "polycut/solve/pcg.hpp"
 
+#include <string>
+
 namespace polycut::integrate {
 
 /// Outcome of one linear solve.
@@ -13,6 +15,8 @@ struct LinearSolveResult {
     solve::SolveStatus status = solve::SolveStatus::Ok;
     int iterations = 0;
     double relative_residual = 0;
+    /// Set once when the solver had to change method (AMG unavailable: Jacobi from then on).
+    std::string warning;
 };
 
 /// Solves A x = b for SPD A; PCG variants start from x (warm start), CHOLMOD ignores it.
