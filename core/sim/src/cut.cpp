@@ -146,15 +146,25 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         summary.cells_after = s.mesh.num_cells();
         return summary;
     }
-    const cut::CutReport report = snap ? s.snap_cutter->cut(rest) : s.cutter->cut(rest);
-    summary.triangles_applied = int(report.triangles - report.triangles_missed);
-    summary.cells_split = int(report.new_cells.size());
-    summary.nodes_added = int(report.nodes_after - report.nodes_before);
-    summary.topology_changed = report.topology_changed;
-    if (report.topology_changed) {
-        s.resize_state_after_cut(report);
-        if (is_static())
-            summary.pieces_fixed = s.fix_free_pieces();
+    // A cut is all or nothing: if the cutter or the model update fails on some configuration
+    // (a cell the basis cannot handle), the mesh and the state go back to what they were and the
+    // error is reported; the simulation keeps running on the uncut mesh.
+    const Impl::Snapshot before = s.snapshot();
+    try {
+        const cut::CutReport report = snap ? s.snap_cutter->cut(rest) : s.cutter->cut(rest);
+        summary.triangles_applied = int(report.triangles - report.triangles_missed);
+        summary.cells_split = int(report.new_cells.size());
+        summary.nodes_added = int(report.nodes_after - report.nodes_before);
+        summary.topology_changed = report.topology_changed;
+        if (report.topology_changed) {
+            s.resize_state_after_cut(report);
+            if (is_static())
+                summary.pieces_fixed = s.fix_free_pieces();
+        }
+    } catch (const std::exception& e) {
+        s.restore(before);
+        throw Error(
+            "cut", std::string("failed and was undone, the mesh is unchanged: ") + e.what());
     }
     summary.cells_after = s.mesh.num_cells();
     summary.cut_ms = watch.ms();
@@ -236,6 +246,28 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
         model->rebuild_topology();
     else
         model->update_cells(report.changed_cells);
+    model->set_fixed_dofs(node_fixed_mask);
+    static_solved = false;
+    sync_positions();
+    refresh_topology();
+}
+
+Simulation::Impl::Snapshot Simulation::Impl::snapshot() const {
+    return { mesh, state, node_fixed_mask, scene_forces, forces, grabs };
+}
+
+void Simulation::Impl::restore(const Snapshot& snap) {
+    mesh = snap.mesh;
+    state = snap.state;
+    node_fixed_mask = snap.node_fixed_mask;
+    scene_forces = snap.scene_forces;
+    forces = snap.forces;
+    grabs = snap.grabs;
+    // The cutters' adjacency and remembered sweeps refer to the failed edit: start them afresh.
+    cutter.reset();
+    snap_cutter.reset();
+    stroke_corners.clear();
+    model->rebuild_topology();
     model->set_fixed_dofs(node_fixed_mask);
     static_solved = false;
     sync_positions();

@@ -59,6 +59,18 @@ struct Simulation::Impl {
     /// Uniform grid over the deformed cell bounds, refitted at each cut call: finds the cells a
     /// sweep triangle touches without scanning the mesh per triangle.
     std::unique_ptr<cut::WorldToRest> locator;
+    /// What a cut may change, kept so a failed cut can be undone.
+    struct Snapshot {
+        mesh::Mesh mesh;
+        integrate::State state;
+        std::vector<std::uint8_t> node_fixed_mask;
+        VecX scene_forces;
+        std::map<long, ActiveForce> forces;
+        std::map<long, ActiveGrab> grabs;
+    };
+    Snapshot snapshot() const;
+    /// Puts the mesh and state back as they were and rebuilds the model and the surface.
+    void restore(const Snapshot& snap);
     /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
     /// returns how many pieces it fixed.
     int fix_free_pieces();
