@@ -124,6 +124,7 @@ public:
     void write_vtu(const std::string& path) const;
 
 private:
+    friend struct SimulationTestPeer; // tests reach the undo of a failed cut through it
     struct Impl;
     std::unique_ptr<Impl> m_impl;
 };
