@@ -14,6 +14,11 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri);
 /// cells are no longer connected around them, and inserts a pocket node when nothing opened.
 void separate(Editor& ed, const std::vector<Index>& crack);
 
+/// Removes from every face loop the nodes of `cells` that lie strictly inside a straight edge in
+/// every face using them (left behind by earlier crack fronts); faces, cells, volume and surface
+/// keep their shape. Returns the number of nodes taken out (they stay in the node table, unused).
+Index remove_collinear_nodes(Editor& ed, const std::vector<Index>& cells);
+
 /// Merges the cells a call left with less than CutOptions::sliver_volume of the volume of their
 /// largest interior neighbour into the neighbour whose union with them stays convex (000 sec. 4);
 /// compacts cells and faces and fills CutReport::{cell_map, removed_cells, slivers_merged}.

@@ -327,12 +327,14 @@ void check_duplicates(const Mesh& mesh, const ValidationOptions& options,
         return;
     const double tol = options.duplicate_tol * box.diagonal();
     const double bin = std::max({ tol, 1e-9 * box.diagonal(), 1e-300 });
-    std::vector<char> on_cut(std::size_t(N), 0);
+    std::vector<char> on_cut(std::size_t(N), 0), used(std::size_t(N), 0);
     for (const Face& f : mesh.faces)
-        if (f.tag == FaceTag::Cut)
-            for (Index n : f.nodes)
-                if (n >= 0 && n < N)
+        for (Index n : f.nodes)
+            if (n >= 0 && n < N) {
+                used[std::size_t(n)] = 1;
+                if (f.tag == FaceTag::Cut)
                     on_cut[std::size_t(n)] = 1;
+            }
     using Key = std::array<std::int64_t, 3>;
     auto key_of = [&](const Vec3& p) {
         const Vec3 q = (p - box.lo) / bin;
@@ -341,8 +343,9 @@ void check_duplicates(const Mesh& mesh, const ValidationOptions& options,
     };
     std::vector<std::pair<Key, Index>> keyed;
     keyed.reserve(std::size_t(N));
+    // Nodes no face uses (left behind by cuts that coarsened them away) cannot pinch anything.
     for (Index n = 0; n < N; ++n)
-        if (finite[std::size_t(n)])
+        if (finite[std::size_t(n)] && used[std::size_t(n)])
             keyed.push_back({ key_of(mesh.rest[std::size_t(n)]), n });
     std::sort(keyed.begin(), keyed.end());
     for (const auto& [key, n] : keyed) {

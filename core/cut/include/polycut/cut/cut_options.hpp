@@ -23,6 +23,10 @@ struct CutOptions {
     /// Triangle corners farther than max_extent * L from the mesh's bounding-box centre are
     /// rejected ("huge coordinates").
     double max_extent = 1e3;
+    /// After each cut call, take out of the changed cells the nodes that lie strictly inside a
+    /// straight edge of every face using them (earlier crack-front positions): same geometry,
+    /// fewer DOFs and smaller cells on progressive cuts.
+    bool coarsen = true;
     /// Insert a pocket node when a cut polygon covers no node that could separate (000 sec. 5.2).
     bool pockets = true;
     /// Cells a call leaves with a rest volume below sliver_volume * (volume of their largest

@@ -50,6 +50,7 @@ struct CutReport {
     std::vector<Index> cut_faces; ///< faces tagged Cut by this call (both sides)
     Index pockets = 0; ///< pocket nodes inserted (each counted once per side)
     Index slivers_merged = 0; ///< cells removed by sliver merging
+    Index nodes_coarsened = 0; ///< collinear nodes taken out of the changed cells' faces
     Index slivers_kept = 0; ///< slivers left because no merge with a neighbour stayed convex
     Index cells_skipped = 0; ///< crossed cells left unsplit (degenerate configuration)
     Index triangles = 0; ///< sweep triangles processed
