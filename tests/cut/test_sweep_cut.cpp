@@ -6,8 +6,10 @@
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/mesh/builders.hpp"
 
+#include <cmath>
 #include <gtest/gtest.h>
 #include <iostream>
+#include <set>
 
 using namespace polycut;
 
@@ -269,4 +271,50 @@ TEST(SweepCut, RepeatedCutInSamePlaceIsStable) {
     EXPECT_EQ(m.num_cells(), cells);
     EXPECT_EQ(m.num_nodes(), nodes);
     expect_ok(m, v0);
+}
+
+TEST(SweepCut, CoarseningKeepsTheGeometryWithFewerNodes) {
+    // The progressive incision with and without coarsening behind the crack front: the same
+    // volume and boundary area (the faces keep their shape), every invariant, fewer used nodes.
+    auto run = [](bool coarsen) {
+        auto m = block(4);
+        cut::CutOptions opt;
+        opt.coarsen = coarsen;
+        cut::Cutter cutter(m, opt);
+        Index removed = 0;
+        for (double y = -0.01; y < 0.06; y += 0.002) {
+            const double x0 = 0.0507 + 0.002 * std::sin(30 * y); // the curved path above
+            const double x1 = 0.0507 + 0.002 * std::sin(30 * (y + 0.002));
+            const Vec3 a0(x0, y, 0.12), b0(x0, y, 0.06), a1(x1, y + 0.002, 0.12),
+                b1(x1, y + 0.002, 0.06);
+            const std::vector<cut::Triangle> tris { { a0, b0, b1 }, { a0, b1, a1 } };
+            removed += cutter.cut(tris).nodes_coarsened;
+        }
+        return std::pair { m, removed };
+    };
+    const auto [fine, none] = run(false);
+    const auto [coarse, removed] = run(true);
+    EXPECT_EQ(none, 0);
+    EXPECT_GT(removed, 10);
+    const double v0 = block(4).rest_volume();
+    expect_ok(fine, v0);
+    expect_ok(coarse, v0);
+    auto used_nodes = [](const mesh::Mesh& m) {
+        std::set<Index> used;
+        for (const auto& c : m.cells)
+            used.insert(c.nodes.begin(), c.nodes.end());
+        return used.size();
+    };
+    auto boundary_area = [](const mesh::Mesh& m) {
+        double area = 0;
+        for (Index f : m.boundary_faces())
+            area += geometry::polygon_area(geometry::gather(m.rest, m.faces[std::size_t(f)].nodes));
+        return area;
+    };
+    EXPECT_LT(used_nodes(coarse), used_nodes(fine));
+    std::cout << "cells " << fine.num_cells() << " -> " << coarse.num_cells() << ", used nodes "
+              << used_nodes(fine) << " -> " << used_nodes(coarse) << " (" << removed
+              << " coarsened)\n";
+    EXPECT_NEAR(coarse.rest_volume(), fine.rest_volume(), 1e-12 * v0);
+    EXPECT_NEAR(boundary_area(coarse), boundary_area(fine), 1e-9 * boundary_area(fine));
 }
