@@ -118,7 +118,8 @@ struct Cutting {
     std::string method = "split"; ///< "split" (cell splitting, 000 sec. 5; default except for tet)
                                   ///< or "snap" (face snapping, 002; default for tet)
     double snap_distance = 1e-3; ///< node snapping distance, relative to the local cell thickness
-    double sliver_volume = 1e-3; ///< cells below this fraction of their largest interior neighbour are merged
+    double sliver_volume
+        = 1e-3; ///< cells below this fraction of their largest interior neighbour are merged
     std::vector<Sweep> sweeps;
 };
 
