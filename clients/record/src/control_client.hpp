@@ -1,6 +1,7 @@
 // A minimal JSON-RPC client of polycut-server's control channel (a DEALER socket), shared by
-// polycut-record and polycut-bench: send requests with increasing integer ids, match replies by
-// id, decode them with the protocol codec. One thread only (ZeroMQ sockets are not thread-safe).
+// polycut-record and polycut-bench (polycut-scalpel uses its multipart helpers): send requests
+// with increasing integer ids, match replies by id, decode them with the protocol codec. One
+// thread only (ZeroMQ sockets are not thread-safe).
 #pragma once
 
 #include "polycut/protocol/protocol.hpp"

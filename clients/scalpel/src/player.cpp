@@ -1,6 +1,7 @@
 // Script player (see player.hpp).
 #include "player.hpp"
 
+#include "control_client.hpp"
 #include "polycut/protocol/protocol.hpp"
 
 #include <algorithm>
@@ -35,27 +36,6 @@ double round3(double x) {
     return std::round(x * 1000.0) / 1000.0;
 }
 
-protocol::Message recv_all(zmq::socket_t& socket) {
-    protocol::Message frames;
-    bool more = true;
-    while (more) {
-        zmq::message_t part;
-        if (!socket.recv(part, zmq::recv_flags::none)) {
-            break;
-        }
-        frames.emplace_back(part.data<char>(), part.size());
-        more = part.more();
-    }
-    return frames;
-}
-
-void send_all(zmq::socket_t& socket, const protocol::Message& frames) {
-    for (std::size_t k = 0; k < frames.size(); ++k) {
-        socket.send(zmq::buffer(frames[k]),
-            k + 1 < frames.size() ? zmq::send_flags::sndmore : zmq::send_flags::none);
-    }
-}
-
 /// The connection and everything measured on it.
 class Session {
 public:
@@ -74,7 +54,7 @@ public:
     std::int64_t send(const protocol::Params& params) {
         const std::int64_t id = ++m_next_id;
         protocol::Request request { protocol::RequestId { id }, params };
-        send_all(m_control, protocol::encode_request(request));
+        record::send_message(m_control, protocol::encode_request(request));
         m_pending[id] = Pending { protocol::method_of(params), Clock::now() };
         ++m_sent;
         return id;
@@ -160,7 +140,7 @@ private:
         protocol::Message frames;
         frames.emplace_back(first.data<char>(), first.size());
         if (first.more()) {
-            for (auto& f : recv_all(m_control)) {
+            for (auto& f : record::receive_message(m_control)) {
                 frames.push_back(std::move(f));
             }
         }
