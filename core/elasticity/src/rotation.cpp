@@ -60,7 +60,7 @@ Mat3 polar_rotation_warm(const Mat3& A, const Mat3& guess) {
             const Mat3 step = Mat3::Identity() + (2.0 / (1.0 + c.squaredNorm())) * (C + C * C);
             Q = Q * step;
             Y = step.transpose() * Y;
-            if (wn < 1e-8)
+            if (wn < 1e-5)
                 return guess * Q;
             if (!(wn < 1.0))
                 break;
