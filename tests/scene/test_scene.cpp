@@ -107,6 +107,17 @@ TEST(Scene, LoadsAndSweepsParse) {
         "/loads/forces/0/probe");
 }
 
+TEST(Scene, SolverWarmStartParses) {
+    EXPECT_EQ(parse_scene(kMinimal).solver.warm_start, "previous");
+    const std::string loads = "\"loads\": {\"gravity\": [0, 0, -9.81]}";
+    const Scene s = parse_scene(with(
+        loads, loads + R"(, "solver": {"preconditioner": "amg", "warm_start": "extrapolated"})"));
+    EXPECT_EQ(s.solver.warm_start, "extrapolated");
+    EXPECT_EQ(s.solver.preconditioner, "amg");
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"warm_start": "linear"})")),
+        "/solver/warm_start");
+}
+
 TEST(Scene, EveryShippedSceneParses) {
     const std::filesystem::path dir = std::filesystem::path(POLYCUT_SOURCE_DIR) / "assets/scenes";
     int count = 0;

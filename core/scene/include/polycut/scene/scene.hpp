@@ -68,6 +68,9 @@ struct Solver {
     int max_iterations = 2000;
     /// lagged_cholesky, amg: refactor (set up again) every k solves (0 = on demand)
     int refactor_every = 0;
+    /// implicit_euler with pcg / cg_relaxation: initial guess of the velocity increment dv,
+    /// "previous" (dv_{n-1}) or "extrapolated" (2 dv_{n-1} - dv_{n-2})
+    std::string warm_start = "previous";
 };
 
 /// Selects nodes by rest position.
