@@ -4,6 +4,8 @@
 #include "polycut/elasticity/element_stiffness.hpp"
 #include "polycut/elasticity/rotation.hpp"
 
+#include "p1_batch.hpp"
+
 #include <algorithm>
 
 namespace polycut::elasticity {
@@ -64,70 +66,6 @@ void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const M
     }
 }
 
-/// Closed-form corotated kernel of a P1 tet (isotropic material, one quadrature point):
-/// H = R^T F - C0 (F = sum_j (x_j - x_c) g_j^T), sigma = lambda tr(H) I + mu (H + H^T),
-/// f_i = -V R sigma g_i, and the stiffness blocks V (lambda r_i r_j^T + mu r_j r_i^T
-/// + mu (g_i . g_j) I) with r_i = R g_i. Equal to the generic R Ke (R^T x - X) and R Ke R^T
-/// for Ke of element_stiffness() up to round-off, at ~1/5 of the flops.
-template <typename Cell>
-void p1_kernel(const Cell& t, double lambda, double mu, const MatX3& x, bool corotated, Mat3& R,
-    const int* scatter, double* Kvals, double* fint) {
-    Vec3 p[4];
-    for (int i = 0; i < 4; ++i)
-        p[i] = x.row(t.nodes[i]).transpose();
-    const Vec3 xc = 0.25 * (p[0] + p[1] + p[2] + p[3]);
-    Vec3 g[4];
-    for (int i = 0; i < 4; ++i)
-        g[i] = Vec3(t.g[i][0], t.g[i][1], t.g[i][2]);
-    Mat3 F = Mat3::Zero();
-    for (int i = 0; i < 4; ++i)
-        F.noalias() += (p[i] - xc) * g[i].transpose();
-    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> C0(&t.c0[0][0]);
-    if (corotated)
-        R = polar_rotation_warm(F, R);
-    const double V = t.volume;
-    if (fint) {
-        const Mat3 H = corotated ? Mat3(R.transpose() * F - C0) : Mat3(F - C0);
-        Mat3 sigma = mu * (H + H.transpose());
-        sigma.diagonal().array() += lambda * H.trace();
-        const Mat3 P = corotated ? Mat3(V * (R * sigma)) : Mat3(V * sigma);
-        for (int i = 0; i < 4; ++i) {
-            const Vec3 fi = P * g[i];
-            double* dst = fint + 3 * std::size_t(t.nodes[i]);
-            dst[0] -= fi.x();
-            dst[1] -= fi.y();
-            dst[2] -= fi.z();
-        }
-    }
-    if (!Kvals)
-        return;
-    Vec3 r[4];
-    for (int i = 0; i < 4; ++i)
-        r[i] = corotated ? Vec3(R * g[i]) : g[i];
-    const double vl = V * lambda, vm = V * mu;
-    for (int i = 0; i < 4; ++i)
-        for (int j = i; j < 4; ++j) {
-            // B = block (i, j); block (j, i) = B^T.
-            Mat3 B = vl * r[i] * r[j].transpose() + vm * r[j] * r[i].transpose();
-            B.diagonal().array() += vm * g[i].dot(g[j]);
-            const int* sij = scatter + std::size_t(3 * i) * 12 + std::size_t(3 * j);
-            const int* sji = scatter + std::size_t(3 * j) * 12 + std::size_t(3 * i);
-            for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < 3; ++b) {
-                    const int s = sij[a * 12 + b];
-                    if (s >= 0)
-                        Kvals[s] += B(a, b);
-                }
-            if (j == i)
-                continue;
-            for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < 3; ++b) {
-                    const int s = sji[a * 12 + b];
-                    if (s >= 0)
-                        Kvals[s] += B(b, a);
-                }
-        }
-}
 } // namespace
 
 std::vector<std::uint8_t> fix_nodes(const std::vector<std::uint8_t>& node_mask) {
@@ -337,6 +275,33 @@ void ElasticModel::rebuild_pattern() {
             }
         }
     }
+    // Compact scatter of tets with 12 free DOFs, checked entry by entry against the full one.
+    m_block_scatter.assign(20 * m_cells.size(), -1);
+    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        const auto& nodes = m_cells[c].nodes;
+        if (nodes.size() != 4)
+            continue;
+        const int* sc = m_scatter.data() + m_scatter_offset[c];
+        int blk[20];
+        bool ok = true;
+        for (int j = 0; j < 4 && ok; ++j) {
+            const Index r = m_dof_map[3 * std::size_t(nodes[std::size_t(j)])];
+            ok = r != kNone;
+            if (ok)
+                blk[16 + j] = m_outer[std::size_t(r) + 1] - m_outer[std::size_t(r)];
+        }
+        for (int i = 0; i < 4 && ok; ++i)
+            for (int j = 0; j < 4 && ok; ++j) {
+                blk[4 * i + j] = sc[3 * i * 12 + 3 * j];
+                for (int a = 0; a < 3 && ok; ++a)
+                    for (int b = 0; b < 3 && ok; ++b)
+                        ok = sc[(3 * i + a) * 12 + 3 * j + b] >= 0
+                            && sc[(3 * i + a) * 12 + 3 * j + b]
+                                == blk[4 * i + j] + b * blk[16 + j] + a;
+            }
+        if (ok)
+            std::copy(blk, blk + 20, m_block_scatter.begin() + std::ptrdiff_t(20 * c));
+    }
     ++m_topology_version;
 }
 
@@ -366,14 +331,22 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
     const double lambda = m_material.lambda(), mu = m_material.mu();
     double ubuf[24], fbuf[24];
     std::vector<double> ubig, fbig;
+    // P1 tets go through the batched kernel kP1Lanes at a time (p1_batch.hpp).
+    detail::P1TetView batch[detail::kP1Lanes];
+    int pending = 0;
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
         const CellData& cd = m_cells[c];
         const int n = int(cd.nodes.size());
         const int* sc = m_scatter.data() + m_scatter_offset[c];
         Mat3& R = m_rotation[c];
-        if (m_p1[c].valid)
-            p1_kernel(m_p1[c], lambda, mu, x, corotated, R, sc, Kvals, fint);
-        else if (n == 4)
+        if (const P1Cell& t = m_p1[c]; t.valid) {
+            const int* blk = m_block_scatter.data() + 20 * c;
+            batch[pending++] = { t.nodes, t.g, t.c0, t.volume, &R, sc, blk[0] >= 0 ? blk : nullptr };
+            if (pending == detail::kP1Lanes) {
+                detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
+                pending = 0;
+            }
+        } else if (n == 4)
             cell_kernel<4>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x, corotated, R, ubuf,
                 fbuf, sc, Kvals, fint);
         else if (n == 8)
@@ -386,6 +359,8 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
                 corotated, R, ubig.data(), fbig.data(), sc, Kvals, fint);
         }
     }
+    if (pending > 0)
+        detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
 }
 
 double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {

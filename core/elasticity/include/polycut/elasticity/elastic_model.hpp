@@ -127,6 +127,9 @@ private:
     std::vector<std::size_t> m_scatter_offset;
     std::vector<int> m_scatter;
     std::vector<Index> m_diag_slots;
+    /// Per cell, 20 ints: the compact scatter of a 4-node cell whose 12 DOFs are free (see
+    /// detail::P1TetView::block); first entry -1 when the full scatter must be used.
+    std::vector<int> m_block_scatter;
     std::uint64_t m_topology_version = 0;
 };
 
