@@ -2,11 +2,14 @@
 // against finite differences, P1 on tets, exact C0 across a shared face, the stiffness matrix's
 // rigid modes, and the patch test of the heuristic rule against the reference rule.
 #include "polycut/basis/mean_value.hpp"
+#include "polycut/geometry/polyhedron.hpp"
 #include "polyhedral_cells.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 #include <random>
+#include <set>
+#include <string>
 
 namespace polycut::basis {
 namespace {
@@ -91,6 +94,64 @@ TEST(MeanValue, KroneckerDeltaAtNodesAndBarycentricOnFaces) {
             for (int v = 0; v < 3; ++v)
                 EXPECT_NEAR(phi[t.nodes[std::size_t(v)]], bary[v], 1e-14);
             EXPECT_NEAR(phi.sum(), 1.0, 1e-14);
+        }
+    }
+}
+
+namespace {
+/// Triangles of one triangulation as sorted node triples, with the face they lie in.
+std::set<std::array<Index, 4>> triangle_set(const std::vector<SurfaceTriangle>& tris) {
+    std::set<std::array<Index, 4>> out;
+    for (const auto& t : tris) {
+        std::array<Index, 3> n = t.nodes;
+        std::sort(n.begin(), n.end());
+        out.insert({ t.face, n[0], n[1], n[2] });
+    }
+    return out;
+}
+
+/// Total edge length of a face triangulation (each interior diagonal counted twice) [m].
+double edge_length(const CellGeometry& geo, const std::vector<SurfaceTriangle>& tris) {
+    double sum = 0;
+    for (const auto& t : tris)
+        for (std::size_t e = 0; e < 3; ++e)
+            sum += (geo.nodes[std::size_t(t.nodes[e])]
+                - geo.nodes[std::size_t(t.nodes[(e + 1) % 3])])
+                       .norm();
+    return sum;
+}
+} // namespace
+
+TEST(MeanValue, FaceTriangulationIsIndependentOfTheLoopAndShortest) {
+    // The two cells sharing a face see its loop reversed and from another first vertex: the
+    // triangle set must not change (exact C0). The minimum-weight triangulation is never longer
+    // than the fan, strictly shorter on the 12-gon, and orients its triangles outward.
+    for (const auto& [name, geo] : convex_cells()) {
+        SCOPED_TRACE(name);
+        const double tol = 1e-14 * cell_size(geo.nodes) * cell_size(geo.nodes);
+        const auto tris = mean_value_triangulation(geo.nodes, geo.loops, tol);
+        for (int variant = 0; variant < 4; ++variant) {
+            auto loops = geo.loops;
+            for (auto& l : loops) {
+                std::rotate(l.begin(), l.begin() + (variant + 1) % long(l.size()), l.end());
+                if (variant % 2)
+                    std::reverse(l.begin(), l.end());
+            }
+            auto other = mean_value_triangulation(geo.nodes, loops, tol);
+            EXPECT_EQ(triangle_set(other), triangle_set(tris)) << "variant " << variant;
+        }
+        const auto fan = fan_triangulation(geo.nodes, geo.loops, tol);
+        const double mwt = edge_length(geo, tris), fl = edge_length(geo, fan);
+        EXPECT_LE(mwt, fl * (1 + 1e-14));
+        if (std::string(name) == "prism12") {
+            EXPECT_LT(mwt, 0.95 * fl);
+        }
+        const Vec3 c = geometry::polyhedron_centroid(geo.nodes, geo.loops);
+        for (const auto& t : tris) {
+            const Vec3& a = geo.nodes[std::size_t(t.nodes[0])];
+            const Vec3 nrm = (geo.nodes[std::size_t(t.nodes[1])] - a)
+                                 .cross(geo.nodes[std::size_t(t.nodes[2])] - a);
+            EXPECT_GT(nrm.dot(a - c), 0.0);
         }
     }
 }
@@ -185,7 +246,7 @@ TEST(MeanValue, ExactlyContinuousAcrossASharedFace) {
             (off == 0 ? worst_on : worst_near) = std::max(off == 0 ? worst_on : worst_near, err);
         }
     }
-    EXPECT_LT(worst_on, 1e-14); // same fan triangulation on both sides: exact
+    EXPECT_LT(worst_on, 1e-14); // same face triangulation on both sides: exact
     EXPECT_LT(worst_near, 1e-5); // 1e-6 off the face on either side: O(distance)
     RecordProperty("c0_error_on_face", std::to_string(worst_on));
 }

@@ -48,7 +48,7 @@ MeanValueCell::MeanValueCell(std::vector<Vec3> nodes, const std::vector<std::vec
     if (!(m_volume > 0))
         throw MeshError(kNone, kNone, "mean value cell of non-positive volume");
     m_centroid = geometry::polyhedron_centroid(m_nodes, loops);
-    m_triangles = fan_triangulation(m_nodes, loops, 1e-14 * m_size * m_size);
+    m_triangles = mean_value_triangulation(m_nodes, loops, 1e-14 * m_size * m_size);
     for (const auto& t : m_triangles) {
         const Vec3& a = m_nodes[std::size_t(t.nodes[0])];
         const Vec3 cr

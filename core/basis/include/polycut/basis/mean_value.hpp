@@ -18,8 +18,8 @@ enum class MvcRule {
     Reference, ///< Gauss rule of selectable degree on the centroid tetrahedralization
 };
 
-/// Mean value coordinates of one convex polyhedron with planar faces. Faces are fan-triangulated
-/// (fan_triangulation()); the weights are those of Ju, Schaefer & Warren 2005 (equal to 000
+/// Mean value coordinates of one convex polyhedron with planar faces. Faces are triangulated by
+/// mean_value_triangulation(); the weights are those of Ju, Schaefer & Warren 2005 (equal to 000
 /// eq. 7-8), normalized as 000 eq. 9. Immutable after construction; evaluate() is thread-safe.
 class MeanValueCell {
 public:
@@ -69,6 +69,15 @@ private:
     Vec3 m_centroid = Vec3::Zero();
     double m_size = 0;
 };
+
+/// Triangulation of the face loops (outward, local indices into nodes [m]) that mean value cells
+/// use: per face the minimum-weight triangulation (least total diagonal length), which avoids
+/// the needle triangles of a fan on many-sided faces. It depends on the face's vertex positions
+/// only, not on the loop's orientation or first vertex, so two cells sharing a face triangulate it
+/// identically (exact C0). Degenerate triangles are avoided where the face allows; triangles of
+/// area below area_tol [m^2] (collinear vertices) are dropped. Triangles are oriented as the loops.
+std::vector<SurfaceTriangle> mean_value_triangulation(
+    const std::vector<Vec3>& nodes, const std::vector<std::vector<Index>>& loops, double area_tol);
 
 /// Values phi (#n) and optionally gradients (#n x 3) [1/m] of the mean value coordinates of the
 /// cell (nodes, outward loops) at x [m]. Builds a MeanValueCell; use the class for many points.
