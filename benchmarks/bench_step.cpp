@@ -16,6 +16,9 @@
 //   step, at the state after 20 steps.
 //
 // Run one thread: OPENBLAS_NUM_THREADS=1 ./bench_step --benchmark_filter=box20
+// POLYCUT_BENCH_AMG overrides solve::AmgOptions of every AMG configuration, for tuning: a comma
+// list of key=value with keys theta, agg, pmax, coarse, sweeps, smoother (gs, jacobi, cheby),
+// cf (0/1), rbm (0/1), rbm_pmax; e.g. POLYCUT_BENCH_AMG=rbm=1,smoother=jacobi.
 // Google Benchmark's CPU column is the process CPU time; on the shared machine prefer it to wall.
 #include "polycut/common/stats.hpp"
 #include "polycut/integrate/integrator.hpp"
@@ -25,10 +28,12 @@
 
 #include <Eigen/Cholesky>
 #include <benchmark/benchmark.h>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -88,6 +93,48 @@ IntegratorOptions step_options(const SolverOptions& solver) {
     return o;
 }
 
+/// AmgOptions with the overrides of POLYCUT_BENCH_AMG (see the file comment).
+solve::AmgOptions amg_options() {
+    solve::AmgOptions o;
+    const char* env = std::getenv("POLYCUT_BENCH_AMG");
+    std::stringstream list(env ? env : "");
+    std::string item;
+    while (std::getline(list, item, ',')) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos)
+            continue;
+        const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+        if (key == "theta")
+            o.strong_threshold = std::stod(value);
+        else if (key == "agg")
+            o.aggressive_levels = std::stoi(value);
+        else if (key == "pmax")
+            o.interpolation_max_elements = std::stoi(value);
+        else if (key == "coarse")
+            o.max_coarse_size = std::stoi(value);
+        else if (key == "sweeps")
+            o.sweeps = std::stoi(value);
+        else if (key == "smoother")
+            o.smoother = value == "jacobi" ? solve::AmgSmoother::L1Jacobi
+                : value == "cheby"         ? solve::AmgSmoother::Chebyshev
+                                           : solve::AmgSmoother::GaussSeidel;
+        else if (key == "cf")
+            o.cf_order = std::stoi(value) != 0;
+        else if (key == "rbm")
+            o.rigid_body_modes = std::stoi(value) != 0;
+        else if (key == "rbm_pmax")
+            o.rigid_body_max_elements = std::stoi(value);
+    }
+    return o;
+}
+
+/// Coordinates of the free DOFs' nodes at positions x (for rigid-body-mode AMG).
+VecX free_coordinates(const elasticity::ElasticModel& model, const MatX3& x) {
+    VecX c;
+    model.reduce(VecX(flat(x)), c);
+    return c;
+}
+
 /// A solver configuration of the step benchmark.
 struct Method {
     std::string name;
@@ -101,6 +148,7 @@ std::vector<Method> methods(double tol) {
         s.kind = kind;
         s.relative_tolerance = tol;
         s.max_iterations = 5000;
+        s.amg = amg_options();
         list.push_back({ std::move(name), s });
         return &list.back().options;
     };
@@ -281,7 +329,9 @@ void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p
     o.relative_tolerance = 1e-6;
     o.max_iterations = 5000;
     o.refactor_iterations = 5000;
+    o.amg = amg_options();
     solve::PcgSolver pcg(o);
+    pcg.set_coordinates(free_coordinates(*s.box.model, s.state.x));
     VecX x;
     x.setZero(s.b.size());
     pcg.solve(s.A, s.b, x); // set-up (a lagged factor is computed here)
@@ -293,6 +343,8 @@ void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p
     }
     state.counters["ms_per_it"] = benchmark::Counter(
         double(iterations) * 1e-3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["its"]
+        = double(iterations) / double(std::max<benchmark::IterationCount>(state.iterations(), 1));
 }
 
 /// AMG hierarchy set-up on the snapshot's matrix (plus one PCG iteration, negligible beside it).
@@ -303,7 +355,9 @@ void amg_setup_bench(benchmark::State& state, int n) {
     o.relative_tolerance = 1e-30;
     o.max_iterations = 1;
     o.refactor_every = 1;
+    o.amg = amg_options();
     solve::PcgSolver pcg(o);
+    pcg.set_coordinates(free_coordinates(*s.box.model, s.state.x));
     VecX x;
     for (auto _ : state) {
         x.setZero(s.b.size());

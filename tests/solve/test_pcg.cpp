@@ -309,3 +309,18 @@ TEST(Pcg, InstalledFactorIsUsed) {
     EXPECT_LE(r.iterations, 2);
     EXPECT_EQ(pcg.refactorizations(), 0); // installed, not factored by the solver
 }
+
+TEST(Sparse, ScaleShiftMultiplyFormsTheSystemAndTheProductInOnePass) {
+    // A = a K + diag(d) on K's pattern and y = K x, against Eigen's expressions (round-off only)
+    const SparseMatrix K = grid_matrix(5, 4, 3, 0.1);
+    const Vector x = random_vector(K.rows(), 11);
+    const Vector d = random_vector(K.rows(), 12).cwiseAbs();
+    SparseMatrix A = K;
+    Vector y;
+    scale_shift_multiply(K, 0.3, d, x, A, y);
+    SparseMatrix expected = 0.3 * K;
+    expected.diagonal() += d;
+    EXPECT_LE((A - expected).norm(), 1e-14 * expected.norm());
+    EXPECT_EQ(A.nonZeros(), K.nonZeros());
+    EXPECT_LE((y - K * x).norm(), 1e-13 * (K * x).norm());
+}

@@ -188,6 +188,23 @@ bool Integrator::linear_solve(
     return true;
 }
 
+void Integrator::gather_free(const MatX3& full, VecX& reduced) const {
+    // ElasticModel::reduce() without the temporary full vector
+    const std::vector<Index>& dof_map = m_model->dof_map();
+    const auto f = flat(full);
+    reduced.resize(m_model->num_free_dofs());
+    for (std::size_t k = 0; k < dof_map.size(); ++k)
+        if (dof_map[k] != kNone)
+            reduced(dof_map[k]) = f(Index(k));
+}
+
+void Integrator::pass_coordinates(const MatX3& x) {
+    if (!m_solver.wants_coordinates())
+        return;
+    gather_free(x, m_coords);
+    m_solver.set_coordinates(m_coords);
+}
+
 namespace {
 /// x_free += h v_free and v = v_r on free DOFs, v = 0 on fixed DOFs.
 void advance(const std::vector<Index>& dof_map, const VecX& v_r, double h, State& s) {
@@ -212,22 +229,18 @@ bool Integrator::step_implicit(State& s, StepReport& report) {
     const double beta = m_model->material().rayleigh_stiffness;
     external_reduced();
     assemble(s.x, m_options.force_mode, true, report);
-    m_model->reduce(VecX(flat(s.v)), m_v_r);
-    m_tmp.noalias() = m_K * m_v_r;
+    gather_free(s.v, m_v_r);
     const VecX& M = m_model->reduced_mass();
+    // A = cK K + cM M and K v in one pass over K
+    const double cK = h * beta + h * h, cM = 1.0 + h * alpha;
+    m_shift = cM * M;
+    solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp);
     m_rhs = h * (m_fext_r + m_fint_r - alpha * M.cwiseProduct(m_v_r) - (beta + h) * m_tmp);
     if (!m_rhs.allFinite()) {
         report.status = solve::SolveStatus::NonFinite;
         report.warnings.emplace_back("non-finite force or velocity");
         return false;
     }
-    const Index nnz = Index(m_K.nonZeros());
-    const double cK = h * beta + h * h, cM = 1.0 + h * alpha;
-    for (Index k = 0; k < nnz; ++k)
-        m_A.valuePtr()[k] = cK * m_K.valuePtr()[k];
-    const auto& diag = m_model->diagonal_slots();
-    for (std::size_t r = 0; r < diag.size(); ++r)
-        m_A.valuePtr()[diag[r]] += cM * M(Index(r));
     // m_dv holds the previous step's dv: the warm start (or extrapolated from the last two).
     const bool extrapolate = m_options.extrapolate_warm_start && m_dv_prev.size() == m_dv.size();
     if (m_options.extrapolate_warm_start) {
@@ -235,6 +248,7 @@ bool Integrator::step_implicit(State& s, StepReport& report) {
         if (extrapolate)
             m_dv = 2.0 * m_tmp - m_dv_prev;
     }
+    pass_coordinates(s.x);
     if (!linear_solve(m_A, m_rhs, m_dv, report))
         return false;
     if (m_options.extrapolate_warm_start)
@@ -256,7 +270,7 @@ bool Integrator::step_semi_implicit(State& s, StepReport& report) {
     }
     external_reduced();
     assemble(s.x, m_options.force_mode, beta > 0, report);
-    m_model->reduce(VecX(flat(s.v)), m_v_r);
+    gather_free(s.v, m_v_r);
     m_rhs = m_fext_r + m_fint_r - alpha * M.cwiseProduct(m_v_r);
     if (beta > 0) {
         m_tmp.noalias() = m_K * m_v_r;
@@ -291,6 +305,7 @@ bool Integrator::step_static(State& s, StepReport& report) {
         assemble(s.x, ForceMode::Linear, true, report);
         m_rhs = m_fext_r + m_fint_r;
         m_dv.setZero(m_rhs.size());
+        pass_coordinates(s.x);
         if (!linear_solve(m_K, m_rhs, m_dv, report))
             return false;
         apply(m_dv, 1.0);
@@ -319,6 +334,7 @@ bool Integrator::step_static(State& s, StepReport& report) {
         }
         ++report.newton_iterations;
         m_dv.setZero(m_rhs.size());
+        pass_coordinates(s.x);
         if (!linear_solve(m_K, m_rhs, m_dv, report))
             return false;
         if (m_options.static_mode == StaticMode::CorotatedFixedPoint) {

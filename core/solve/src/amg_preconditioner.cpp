@@ -9,6 +9,7 @@
 
 #include "hypre_runtime.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -35,23 +36,36 @@ struct AmgPreconditioner::Impl {
     HYPRE_ParVector b = nullptr, x = nullptr;
     HYPRE_Solver amg = nullptr;
     std::vector<HYPRE_Int> row_sizes, rows;
+    Vector coordinates; ///< set_coordinates()
+    // rigid-body rotations handed to hypre (it keeps pointers until the solver is destroyed)
+    std::vector<HYPRE_IJVector> ij_modes;
+    std::vector<HYPRE_ParVector> modes;
 
     explicit Impl(AmgOptions o)
         : options(o) { }
 
     ~Impl() { clear(); }
 
-    /// Frees the hypre objects (lock held by the caller or not needed).
-    void destroy_locked() {
+    /// Frees the BoomerAMG solver and the rigid-body modes (lock held).
+    void destroy_solver_locked() {
         if (amg)
             HYPRE_BoomerAMGDestroy(amg);
+        amg = nullptr;
+        for (HYPRE_IJVector v : ij_modes)
+            HYPRE_IJVectorDestroy(v);
+        ij_modes.clear();
+        modes.clear();
+    }
+
+    /// Frees the hypre objects (lock held by the caller or not needed).
+    void destroy_locked() {
+        destroy_solver_locked();
         if (ij_matrix)
             HYPRE_IJMatrixDestroy(ij_matrix);
         if (ij_b)
             HYPRE_IJVectorDestroy(ij_b);
         if (ij_x)
             HYPRE_IJVectorDestroy(ij_x);
-        amg = nullptr;
         ij_matrix = nullptr;
         ij_b = ij_x = nullptr;
         matrix = nullptr;
@@ -84,7 +98,15 @@ struct AmgPreconditioner::Impl {
         return hypre_VectorData(hypre_ParVectorLocalVector(reinterpret_cast<hypre_ParVector*>(v)));
     }
 
-    void configure_locked() {
+    /// The rigid-body modes can be used (options, 3 functions, coordinates of this size).
+    bool modes_wanted() const {
+        return options.rigid_body_modes && options.functions == 3 && n % 3 == 0
+            && coordinates.size() == n;
+    }
+
+    /// Creates and configures the BoomerAMG solver (lock held); `with_modes`: add the rigid-body
+    /// rotations of `coordinates` to the interpolation.
+    void configure_locked(bool with_modes) {
         const AmgOptions& o = options;
         HYPRE_BoomerAMGCreate(&amg);
         HYPRE_BoomerAMGSetPrintLevel(amg, 0);
@@ -98,8 +120,23 @@ struct AmgPreconditioner::Impl {
         HYPRE_BoomerAMGSetAggNumLevels(amg, o.aggressive_levels);
         HYPRE_BoomerAMGSetAggInterpType(amg, 4); // multipass on the aggressive levels
         HYPRE_BoomerAMGSetNumSweeps(amg, o.sweeps);
-        HYPRE_BoomerAMGSetCycleRelaxType(amg, 13, 1); // down: forward l1-Gauss-Seidel
-        HYPRE_BoomerAMGSetCycleRelaxType(amg, 14, 2); // up: backward (the adjoint: symmetric)
+        switch (o.smoother) {
+        case AmgSmoother::GaussSeidel:
+            HYPRE_BoomerAMGSetCycleRelaxType(amg, 13, 1); // down: forward l1-Gauss-Seidel
+            HYPRE_BoomerAMGSetCycleRelaxType(amg, 14, 2); // up: backward (the adjoint: symmetric)
+            HYPRE_BoomerAMGSetRelaxOrder(amg, o.cf_order ? 1 : 0);
+            break;
+        case AmgSmoother::L1Jacobi:
+            HYPRE_BoomerAMGSetCycleRelaxType(amg, 18, 1);
+            HYPRE_BoomerAMGSetCycleRelaxType(amg, 18, 2);
+            HYPRE_BoomerAMGSetRelaxOrder(amg, 0);
+            break;
+        case AmgSmoother::Chebyshev:
+            HYPRE_BoomerAMGSetCycleRelaxType(amg, 16, 1);
+            HYPRE_BoomerAMGSetCycleRelaxType(amg, 16, 2);
+            HYPRE_BoomerAMGSetChebyOrder(amg, 2);
+            break;
+        }
         HYPRE_BoomerAMGSetCycleRelaxType(amg, 9, 3); // coarsest: Gaussian elimination
         HYPRE_BoomerAMGSetMaxCoarseSize(amg, o.max_coarse_size);
         HYPRE_BoomerAMGSetKeepTranspose(amg, 1); // P^T stored: faster restriction
@@ -108,6 +145,33 @@ struct AmgPreconditioner::Impl {
             HYPRE_BoomerAMGSetNumFunctions(amg, functions);
             HYPRE_BoomerAMGSetNodal(amg, 4); // coarsen nodes, strength from row-sum block norms
             HYPRE_BoomerAMGSetNodalDiag(amg, 1);
+        }
+        if (functions == 3 && with_modes) {
+            // the three infinitesimal rotations w x p of the node positions p about their
+            // centroid (Baker, Kolev & Yang 2010, GM-2): e_x x p = (0, -z, y), e_y x p =
+            // (z, 0, -x), e_z x p = (-y, x, 0)
+            const auto size = static_cast<HYPRE_Int>(n);
+            Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+            for (long node = 0; node < n / 3; ++node)
+                centre += coordinates.segment<3>(3 * node);
+            centre /= double(std::max<long>(n / 3, 1));
+            ij_modes.assign(3, nullptr);
+            modes.assign(3, nullptr);
+            for (int axis = 0; axis < 3; ++axis) {
+                modes[size_t(axis)] = make_vector(ij_modes[size_t(axis)], size);
+                double* m = data(modes[size_t(axis)]);
+                for (long node = 0; node < n / 3; ++node) {
+                    const Eigen::Vector3d p = coordinates.segment<3>(3 * node) - centre;
+                    double* u = m + 3 * node;
+                    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+                    u[axis] = 0;
+                    u[a1] = -p[a2];
+                    u[a2] = p[a1];
+                }
+            }
+            HYPRE_BoomerAMGSetInterpVecVariant(amg, 2);
+            HYPRE_BoomerAMGSetInterpVecQMax(amg, o.rigid_body_max_elements);
+            HYPRE_BoomerAMGSetInterpVectors(amg, 3, modes.data());
         }
     }
 
@@ -169,9 +233,18 @@ struct AmgPreconditioner::Impl {
         matrix = static_cast<HYPRE_ParCSRMatrix>(object);
         b = make_vector(ij_b, size);
         x = make_vector(ij_x, size);
-        configure_locked();
-        const HYPRE_Int status = HYPRE_BoomerAMGSetup(amg, matrix, b, x);
-        if (status != 0 && HYPRE_GetError() != HYPRE_ERROR_CONV) {
+        configure_locked(modes_wanted());
+        HYPRE_Int status = HYPRE_BoomerAMGSetup(amg, matrix, b, x);
+        const auto failed = [&] { return status != 0 && HYPRE_GetError() != HYPRE_ERROR_CONV; };
+        if (failed() && !modes.empty()) {
+            // hypre's GM-2 fit can fail on some node sets (seen on rest-state grids): plain
+            // nodal interpolation instead
+            HYPRE_ClearAllErrors();
+            destroy_solver_locked();
+            configure_locked(false);
+            status = HYPRE_BoomerAMGSetup(amg, matrix, b, x);
+        }
+        if (failed()) {
             char what[256] = {};
             HYPRE_DescribeError(status, what);
             HYPRE_ClearAllErrors();
@@ -212,6 +285,7 @@ struct AmgPreconditioner::Impl {
     AmgOptions options;
     std::string error = "polycut was built without hypre (libhypre-dev)";
     long n = -1;
+    Vector coordinates;
     explicit Impl(AmgOptions o)
         : options(o) { }
     void clear() { }
@@ -241,6 +315,10 @@ long AmgPreconditioner::size() const {
 
 int AmgPreconditioner::levels() const {
     return m_impl->levels();
+}
+
+void AmgPreconditioner::set_coordinates(const Vector& coordinates) {
+    m_impl->coordinates = coordinates;
 }
 
 const std::string& AmgPreconditioner::error() const {

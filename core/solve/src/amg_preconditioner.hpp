@@ -29,6 +29,10 @@ public:
     long size() const;
     /// Number of levels of the current hierarchy (0 if none).
     int levels() const;
+    /// Node coordinates for the rigid-body modes (AmgOptions::rigid_body_modes): per DOF the
+    /// coordinate of its node along the DOF's component (n, interleaved like the DOFs) [m].
+    /// Copied; used by the next setup() of a matrix of the same size. Empty: none.
+    void set_coordinates(const Vector& coordinates);
     /// Why the last setup() returned NotReady.
     const std::string& error() const;
     /// Drops the hierarchy.

@@ -381,8 +381,8 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     ++impl.solves_since_refactor;
     if (iterations_with_factor > impl.options.refactor_iterations)
         impl.refactor_requested = true;
-    multiply_symmetric(A, x, impl.q);
-    impl.r = b - impl.q;
+    // iterate() leaves r = b - A x (recomputed at its start, then updated with x): the recursive
+    // residual, equal to the true one up to round-off, without another SpMV
     result.relative_residual = impl.r.norm() / b_norm;
     return result;
 }
@@ -398,6 +398,12 @@ void PcgSolver::finish_background_refactor() {
     if (m_impl->background->ready())
         if (std::optional<CholmodSolver> f = m_impl->background->take())
             m_impl->install(std::move(*f));
+}
+
+void PcgSolver::set_coordinates(const Vector& coordinates) {
+    if (m_impl->options.preconditioner == Preconditioner::Amg
+        && m_impl->options.amg.rigid_body_modes)
+        m_impl->amg.set_coordinates(coordinates);
 }
 
 int PcgSolver::refactorizations() const {

@@ -41,4 +41,27 @@ void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y) {
     }
 }
 
+void scale_shift_multiply(
+    const SparseMatrix& K, double a, const Vector& d, const Vector& x, SparseMatrix& A, Vector& y) {
+    const long n = K.cols();
+    y.resize(n);
+    const int* outer = K.outerIndexPtr();
+    const int* inner = K.innerIndexPtr();
+    const double* values = K.valuePtr();
+    const int* counts = K.innerNonZeroPtr(); // null when compressed
+    double* out = A.valuePtr();
+    const double* xs = x.data();
+    for (long j = 0; j < n; ++j) {
+        const int begin = outer[j];
+        const int end = counts ? begin + counts[j] : outer[j + 1];
+        double sum = 0;
+        for (int k = begin; k < end; ++k) {
+            const double v = values[k];
+            sum += v * xs[inner[k]];
+            out[k] = a * v + (inner[k] == j ? d[j] : 0.0);
+        }
+        y[j] = sum;
+    }
+}
+
 } // namespace polycut::solve

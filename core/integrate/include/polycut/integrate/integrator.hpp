@@ -55,6 +55,10 @@ private:
     void external_reduced();
     double assemble(const MatX3& x, elasticity::ForceMode mode, bool with_K, StepReport& report);
     bool linear_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x, StepReport& report);
+    /// The free entries of a per-node array (#N x 3) as a reduced vector (#free).
+    void gather_free(const MatX3& full, VecX& reduced) const;
+    /// Hands the free DOFs' current node positions to an AMG solver that wants them.
+    void pass_coordinates(const MatX3& x);
     /// PcgLagged with the off-tick refactorization above.
     LinearSolveResult lagged_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x);
 
@@ -76,7 +80,7 @@ private:
     double m_divergence_limit = 0;
     // Work arrays, reused between steps.
     solve::SparseMatrix m_K, m_A;
-    VecX m_fint, m_fint_r, m_fext_r, m_v_r, m_rhs, m_dv, m_tmp, m_full;
+    VecX m_fint, m_fint_r, m_fext_r, m_v_r, m_rhs, m_dv, m_tmp, m_full, m_coords, m_shift;
     VecX
         m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
     State m_backup;

@@ -26,6 +26,13 @@ public:
     /// Forget factors and preconditioners (after a sparsity pattern change).
     void reset();
     LinearSolveResult solve(const solve::SparseMatrix& A, const solve::Vector& b, solve::Vector& x);
+    /// PcgAmg with rigid-body modes: node coordinates of the reduced DOFs (see
+    /// solve::PcgSolver::set_coordinates) [m].
+    void set_coordinates(const solve::Vector& coordinates) { m_pcg.set_coordinates(coordinates); }
+    /// The AMG hierarchy wants node coordinates (PcgAmg with AmgOptions::rigid_body_modes).
+    bool wants_coordinates() const {
+        return m_options.kind == LinearSolverKind::PcgAmg && m_options.amg.rigid_body_modes;
+    }
     const SolverOptions& options() const { return m_options; }
 
 private:

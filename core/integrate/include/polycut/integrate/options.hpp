@@ -3,6 +3,7 @@
 
 #include "polycut/common/types.hpp"
 #include "polycut/elasticity/elastic_model.hpp"
+#include "polycut/solve/amg_options.hpp"
 #include "polycut/solve/sparse.hpp"
 
 #include <string>
@@ -50,6 +51,9 @@ struct SolverOptions {
     /// PcgLagged, PcgIncompleteCholesky, PcgAmg: refactor when a solve took more iterations
     int refactor_iterations = 50;
     bool background_refactor = false; ///< PcgLagged: refactor on a worker thread
+    /// PcgAmg: hierarchy settings (with rigid_body_modes the integrator passes the current node
+    /// positions of the free DOFs before each solve)
+    solve::AmgOptions amg {};
 };
 
 /// Integrator settings.

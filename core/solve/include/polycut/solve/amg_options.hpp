@@ -4,6 +4,14 @@
 
 namespace polycut::solve {
 
+/// Smoother of the AMG V-cycle: one pre- and one post-sweep per level (AmgOptions::sweeps), chosen
+/// so that the cycle stays symmetric (PCG needs an SPD preconditioner).
+enum class AmgSmoother {
+    GaussSeidel, ///< forward Gauss-Seidel down, backward up (hypre relax types 13 / 14)
+    L1Jacobi, ///< l1-scaled Jacobi both ways (hypre 18): one fused SpMV-like pass per sweep
+    Chebyshev, ///< second-order Chebyshev polynomial of D^-1 A (hypre 16)
+};
+
 /// BoomerAMG set-up for a vector problem with `functions` unknowns per node, interleaved (DOF
 /// `functions * node + component`, as the reduced elasticity systems are when whole nodes are
 /// fixed). Defaults: nodal (systems) coarsening, HMIS, extended+i interpolation truncated to 4
@@ -24,6 +32,18 @@ struct AmgOptions {
     int max_coarse_size = 64;
     /// Pre- and post-smoothing sweeps per level.
     int sweeps = 1;
+    /// Smoother (see AmgSmoother).
+    AmgSmoother smoother = AmgSmoother::GaussSeidel;
+    /// GaussSeidel: relax the coarse points first on the way down and last on the way up
+    /// (C/F ordering; the up-sweep stays the adjoint of the down-sweep).
+    bool cf_order = false;
+    /// Augment the interpolation with the three rigid-body rotations of the node coordinates given
+    /// to PcgSolver::set_coordinates() (hypre's GM-2 variant, Baker, Kolev & Yang 2010, Numer.
+    /// Linear Algebra Appl. 17: 495-517); the translations are already interpolated exactly by
+    /// the unknown-based interpolation. Needs functions == 3; ignored without coordinates.
+    bool rigid_body_modes = false;
+    /// rigid_body_modes: maximum entries per row of each added interpolation block (0 = all).
+    int rigid_body_max_elements = 4;
 };
 
 } // namespace polycut::solve

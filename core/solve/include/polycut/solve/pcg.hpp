@@ -41,7 +41,9 @@ struct PcgOptions {
 struct PcgResult {
     SolveStatus status = SolveStatus::Ok;
     int iterations = 0;
-    double relative_residual = 0; ///< ||b - A x|| / ||b||
+    /// ||b - A x|| / ||b||, with PCG's recursively updated residual (equal to the true one up to
+    /// round-off)
+    double relative_residual = 0;
     bool refactored = false; ///< the lagged factor was recomputed before this solve
     /// Preconditioner actually applied (BlockJacobi3 while a background factor is pending).
     Preconditioner used = Preconditioner::None;
@@ -75,6 +77,10 @@ public:
     /// Background mode: blocks until a pending background factorization has finished, then
     /// installs it (the next solve reports refactored). No-op otherwise.
     void finish_background_refactor();
+    /// Amg with AmgOptions::rigid_body_modes: node coordinates of the DOFs (n: per DOF the
+    /// coordinate of its node along the DOF's component, interleaved like the DOFs) [m], used by
+    /// the next hierarchy set-up. Copied; ignored by the other preconditioners.
+    void set_coordinates(const Vector& coordinates);
     /// Number of lagged factorizations (or AMG set-ups) done so far (foreground and background).
     int refactorizations() const;
     /// Amg: levels of the current hierarchy (0 before the first set-up).

@@ -26,4 +26,12 @@ const char* to_string(SolveStatus s);
 /// allocation when it already has n rows). y must not alias x.
 void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y);
 
+/// One pass over a symmetric K (full storage, n x n): A = a K + diag(d) on K's pattern and
+/// y = K x (as multiply_symmetric). A must have K's sparsity pattern, compressed like K (e.g. a
+/// copy of K); every diagonal entry must be stored. d, x: n; y is resized to n (no allocation
+/// when it already has n rows) and must not alias x. Reads K once instead of twice (the implicit
+/// Euler step's system matrix and its K v).
+void scale_shift_multiply(
+    const SparseMatrix& K, double a, const Vector& d, const Vector& x, SparseMatrix& A, Vector& y);
+
 } // namespace polycut::solve
