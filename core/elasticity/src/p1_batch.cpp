@@ -242,14 +242,18 @@ void p1_batch(const P1TetView* tets, int count, double lambda, double mu, const 
                 for (int j = i; j < 4; ++j, ++b) {
                     double* kij = Kvals + blk[4 * i + j];
                     const int lj = blk[16 + j];
+#pragma GCC unroll 3
                     for (int c = 0; c < 3; ++c)
+#pragma GCC unroll 3
                         for (int a = 0; a < 3; ++a)
                             kij[c * lj + a] += B[b].m[a][c][k];
                     if (j == i)
                         continue;
                     double* kji = Kvals + blk[4 * j + i];
                     const int li = blk[16 + i];
+#pragma GCC unroll 3
                     for (int c = 0; c < 3; ++c)
+#pragma GCC unroll 3
                         for (int a = 0; a < 3; ++a)
                             kji[c * li + a] += B[b].m[c][a][k];
                 }
