@@ -18,7 +18,7 @@
 // Run one thread: OPENBLAS_NUM_THREADS=1 ./bench_step --benchmark_filter=box20
 // POLYCUT_BENCH_AMG overrides solve::AmgOptions of every AMG configuration, for tuning: a comma
 // list of key=value with keys theta, agg, pmax, coarse, sweeps, smoother (gs, jacobi, cheby),
-// cf (0/1), rbm (0/1), rbm_pmax; e.g. POLYCUT_BENCH_AMG=rbm=1,smoother=jacobi.
+// cf (0/1), rbm (0/1), rbm_pmax, fused (0/1); e.g. POLYCUT_BENCH_AMG=rbm=1,smoother=jacobi.
 // Google Benchmark's CPU column is the process CPU time; on the shared machine prefer it to wall.
 #include "polycut/common/stats.hpp"
 #include "polycut/integrate/integrator.hpp"
@@ -122,6 +122,8 @@ solve::AmgOptions amg_options() {
             o.cf_order = std::stoi(value) != 0;
         else if (key == "rbm")
             o.rigid_body_modes = std::stoi(value) != 0;
+        else if (key == "fused")
+            o.fused_cycle = std::stoi(value) != 0;
         else if (key == "rbm_pmax")
             o.rigid_body_max_elements = std::stoi(value);
     }

@@ -7,6 +7,7 @@
 // recommendation for 3D elasticity with BoomerAMG (hypre manual, "systems of PDEs").
 #include "amg_preconditioner.hpp"
 
+#include "amg_cycle.hpp"
 #include "hypre_runtime.hpp"
 
 #include <algorithm>
@@ -37,6 +38,9 @@ struct AmgPreconditioner::Impl {
     HYPRE_Solver amg = nullptr;
     std::vector<HYPRE_Int> row_sizes, rows;
     Vector coordinates; ///< set_coordinates()
+    AmgCycle cycle; ///< options.fused_cycle: our V-cycle over the copied hierarchy
+    bool use_cycle = false;
+    int cycle_levels = 0;
     // rigid-body rotations handed to hypre (it keeps pointers until the solver is destroyed)
     std::vector<HYPRE_IJVector> ij_modes;
     std::vector<HYPRE_ParVector> modes;
@@ -78,6 +82,8 @@ struct AmgPreconditioner::Impl {
             std::lock_guard lock(hypre_mutex());
             destroy_locked();
         }
+        cycle.clear();
+        use_cycle = false;
         if (runtime) {
             hypre_release();
             runtime = false;
@@ -211,6 +217,8 @@ struct AmgPreconditioner::Impl {
         }
         std::lock_guard lock(hypre_mutex());
         destroy_locked();
+        cycle.clear();
+        use_cycle = false;
         n = rows_n;
         const auto size = static_cast<HYPRE_Int>(n);
         // symmetric full storage: column j of the CSC arrays is row j of a CSR matrix
@@ -253,12 +261,54 @@ struct AmgPreconditioner::Impl {
             return SolveStatus::NotReady;
         }
         HYPRE_ClearAllErrors();
+        use_cycle = false;
+        cycle.clear();
+        if (fused_wanted() && copy_hierarchy_locked(*source)) {
+            // hypre's copies are no longer needed
+            const long rows_kept = n;
+            destroy_locked();
+            n = rows_kept;
+            use_cycle = true;
+        }
         return SolveStatus::Ok;
     }
 
-    SolveStatus apply(const Vector& r, Vector& z) {
+    bool fused_wanted() const {
+        return options.fused_cycle && options.smoother == AmgSmoother::GaussSeidel
+            && options.sweeps == 1 && !options.cf_order;
+    }
+
+    /// Copies hypre's coarse operators and interpolations into `cycle` (lock held).
+    bool copy_hierarchy_locked(const SparseMatrix& A) {
+        static_assert(sizeof(HYPRE_Int) == sizeof(int) && sizeof(HYPRE_Real) == sizeof(double));
+        auto* data = reinterpret_cast<hypre_ParAMGData*>(amg);
+        const int count = static_cast<int>(hypre_ParAMGDataNumLevels(data));
+        hypre_ParCSRMatrix** A_array = hypre_ParAMGDataAArray(data);
+        hypre_ParCSRMatrix** P_array = hypre_ParAMGDataPArray(data);
+        for (int l = 1; l < count; ++l) {
+            hypre_CSRMatrix* a = hypre_ParCSRMatrixDiag(A_array[l]);
+            hypre_CSRMatrix* p = hypre_ParCSRMatrixDiag(P_array[l - 1]);
+            if (hypre_CSRMatrixNumCols(p) != hypre_CSRMatrixNumRows(a)
+                || hypre_CSRMatrixNumNonzeros(hypre_ParCSRMatrixOffd(A_array[l])) != 0)
+                return false;
+            if (!cycle.add_level(hypre_CSRMatrixNumRows(a), hypre_CSRMatrixI(a),
+                    hypre_CSRMatrixJ(a), hypre_CSRMatrixData(a), hypre_CSRMatrixNumRows(p),
+                    hypre_CSRMatrixI(p), hypre_CSRMatrixJ(p), hypre_CSRMatrixData(p)))
+                return false;
+        }
+        cycle_levels = count;
+        return cycle.finish(A);
+    }
+
+    SolveStatus apply(const SparseMatrix& A, const Vector& r, Vector& z) {
         if (n < 0 || r.size() != n)
             return SolveStatus::NotReady;
+        if (use_cycle) {
+            if (A.rows() != n)
+                return SolveStatus::NotReady;
+            cycle.apply(A, r, z);
+            return z.allFinite() ? SolveStatus::Ok : SolveStatus::NonFinite;
+        }
         z.resize(n);
         {
             std::lock_guard lock(hypre_mutex());
@@ -272,6 +322,8 @@ struct AmgPreconditioner::Impl {
     }
 
     int levels() const {
+        if (use_cycle)
+            return cycle_levels;
         if (!amg)
             return 0;
         return static_cast<int>(
@@ -290,7 +342,7 @@ struct AmgPreconditioner::Impl {
         : options(o) { }
     void clear() { }
     SolveStatus setup(const SparseMatrix&) { return SolveStatus::NotReady; }
-    SolveStatus apply(const Vector&, Vector&) { return SolveStatus::NotReady; }
+    SolveStatus apply(const SparseMatrix&, const Vector&, Vector&) { return SolveStatus::NotReady; }
     int levels() const { return 0; }
 };
 
@@ -305,8 +357,8 @@ SolveStatus AmgPreconditioner::setup(const SparseMatrix& A) {
     return m_impl->setup(A);
 }
 
-SolveStatus AmgPreconditioner::apply(const Vector& r, Vector& z) {
-    return m_impl->apply(r, z);
+SolveStatus AmgPreconditioner::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
+    return m_impl->apply(A, r, z);
 }
 
 long AmgPreconditioner::size() const {

@@ -22,9 +22,11 @@ public:
     /// NotPositiveDefinite on a non-positive diagonal entry, NotReady if hypre/MPI is unusable
     /// (reason in error()).
     SolveStatus setup(const SparseMatrix& A);
-    /// z = M^-1 r by one V-cycle from z = 0 (r, z: n). NotReady before a successful setup() or
-    /// on size mismatch; NonFinite if z is not finite.
-    SolveStatus apply(const Vector& r, Vector& z);
+    /// z = M^-1 r by one V-cycle from z = 0 (r, z: n). A: the current system matrix (the
+    /// set-up's pattern; the fused cycle smooths the finest level with it, hypre's cycle ignores
+    /// it). NotReady before a successful setup() or on size mismatch; NonFinite if z is not
+    /// finite.
+    SolveStatus apply(const SparseMatrix& A, const Vector& r, Vector& z);
     /// Size of the matrix of the last successful setup (-1 if none).
     long size() const;
     /// Number of levels of the current hierarchy (0 if none).

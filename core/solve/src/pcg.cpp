@@ -141,8 +141,8 @@ struct PcgSolver::Impl {
         return SolveStatus::Ok;
     }
 
-    /// z = M^-1 r.
-    SolveStatus apply(Preconditioner use) {
+    /// z = M^-1 r (A: the system matrix, for the fused AMG cycle).
+    SolveStatus apply(Preconditioner use, const SparseMatrix& A) {
         switch (use) {
         case Preconditioner::None:
             z = r;
@@ -165,7 +165,7 @@ struct PcgSolver::Impl {
             z = ic.solve(r);
             return SolveStatus::Ok;
         case Preconditioner::Amg:
-            return amg.apply(r, z);
+            return amg.apply(A, r, z);
         }
         return SolveStatus::NotReady;
     }
@@ -180,7 +180,7 @@ struct PcgSolver::Impl {
             return SolveStatus::NonFinite;
         if (r_norm <= target)
             return SolveStatus::Ok;
-        if (const SolveStatus s = apply(use); s != SolveStatus::Ok)
+        if (const SolveStatus s = apply(use, A); s != SolveStatus::Ok)
             return s;
         p = z;
         double rz = r.dot(z);
@@ -202,7 +202,7 @@ struct PcgSolver::Impl {
                 return SolveStatus::NonFinite;
             if (r_norm <= target)
                 return SolveStatus::Ok;
-            if (const SolveStatus s = apply(use); s != SolveStatus::Ok)
+            if (const SolveStatus s = apply(use, A); s != SolveStatus::Ok)
                 return s;
             const double rz_new = r.dot(z);
             if (!(rz_new > 0))

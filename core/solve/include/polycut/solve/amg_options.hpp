@@ -44,6 +44,12 @@ struct AmgOptions {
     bool rigid_body_modes = false;
     /// rigid_body_modes: maximum entries per row of each added interpolation block (0 = all).
     int rigid_body_max_elements = 4;
+    /// Run polycut's own V-cycle over the hierarchy (copied out of hypre after its set-up) instead
+    /// of hypre's: the same symmetric Gauss-Seidel cycle, but the down-sweep from zero and the
+    /// residual read the matrix once together, and the finest level smooths with the current
+    /// matrix instead of the set-up's. Only with GaussSeidel, one sweep, no cf_order (else
+    /// hypre's cycle runs).
+    bool fused_cycle = true;
 };
 
 } // namespace polycut::solve

@@ -1,0 +1,208 @@
+// Symmetric Gauss-Seidel V-cycle over a copied AMG hierarchy (see amg_cycle.hpp).
+#include "amg_cycle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace polycut::solve::detail {
+
+namespace {
+
+/// Rows of a square operator: CSR arrays and diagonal slots.
+struct View {
+    int rows;
+    const int* ptr;
+    const int* diagonal;
+    const int* column;
+    const double* value;
+};
+
+/// x = forward Gauss-Seidel sweep from x = 0: only the strict lower part is read.
+void forward_from_zero(const View& a, const double* b, double* x) {
+    for (int i = 0; i < a.rows; ++i) {
+        double s = b[i];
+        for (int k = a.ptr[i]; k < a.diagonal[i]; ++k)
+            s -= a.value[k] * x[a.column[k]];
+        x[i] = s / a.value[a.diagonal[i]];
+    }
+}
+
+/// r = b - A x after forward_from_zero(): -(strict upper part) x.
+void upper_residual(const View& a, const double* x, double* r) {
+    for (int i = 0; i < a.rows; ++i) {
+        double s = 0;
+        for (int k = a.diagonal[i] + 1; k < a.ptr[i + 1]; ++k)
+            s -= a.value[k] * x[a.column[k]];
+        r[i] = s;
+    }
+}
+
+/// One backward Gauss-Seidel sweep on x (the adjoint of the forward sweep).
+void backward(const View& a, const double* b, double* x) {
+    for (int i = a.rows - 1; i >= 0; --i) {
+        double s = b[i];
+        for (int k = a.ptr[i]; k < a.diagonal[i]; ++k)
+            s -= a.value[k] * x[a.column[k]];
+        for (int k = a.diagonal[i] + 1; k < a.ptr[i + 1]; ++k)
+            s -= a.value[k] * x[a.column[k]];
+        x[i] = s / a.value[a.diagonal[i]];
+    }
+}
+
+View view(const SortedCsr& m) {
+    return { m.rows, m.ptr.data(), m.diagonal.data(), m.column.data(), m.value.data() };
+}
+
+} // namespace
+
+bool AmgCycle::add_level(int rows, const int* A_ptr, const int* A_col, const double* A_val,
+    int P_rows, const int* P_ptr, const int* P_col, const double* P_val) {
+    m_ready = false;
+    Level level;
+    SortedCsr& A = level.A;
+    A.rows = rows;
+    A.ptr.assign(A_ptr, A_ptr + rows + 1);
+    const int nnz = A.ptr[std::size_t(rows)] - A.ptr[0];
+    A.column.resize(std::size_t(nnz));
+    A.value.resize(std::size_t(nnz));
+    A.diagonal.assign(std::size_t(rows), -1);
+    std::vector<int> order;
+    const int base = A.ptr[0];
+    for (int i = 0; i < rows; ++i) {
+        const int begin = A_ptr[i], end = A_ptr[i + 1];
+        order.resize(std::size_t(end - begin));
+        std::iota(order.begin(), order.end(), begin);
+        std::sort(order.begin(), order.end(), [&](int p, int q) { return A_col[p] < A_col[q]; });
+        for (int k = begin; k < end; ++k) {
+            const int from = order[std::size_t(k - begin)];
+            A.column[std::size_t(k - base)] = A_col[from];
+            A.value[std::size_t(k - base)] = A_val[from];
+            if (A_col[from] == i)
+                A.diagonal[std::size_t(i)] = k - base;
+        }
+    }
+    for (int& p : A.ptr)
+        p -= base;
+    for (int i = 0; i < rows; ++i) {
+        const int d = A.diagonal[std::size_t(i)];
+        if (d < 0 || !(A.value[std::size_t(d)] > 0))
+            return false;
+    }
+    SortedCsr& P = level.P;
+    P.rows = P_rows;
+    P.ptr.assign(P_ptr, P_ptr + P_rows + 1);
+    const int p_base = P.ptr[0];
+    for (int& p : P.ptr)
+        p -= p_base;
+    P.column.assign(P_col + p_base, P_col + P_ptr[P_rows]);
+    P.value.assign(P_val + p_base, P_val + P_ptr[P_rows]);
+    level.b.setZero(rows);
+    level.x.setZero(rows);
+    level.r.setZero(rows);
+    m_levels.push_back(std::move(level));
+    return true;
+}
+
+bool AmgCycle::finish(const SparseMatrix& A) {
+    m_ready = false;
+    if (!A.isCompressed() || A.rows() != A.cols())
+        return false;
+    const long n = A.rows();
+    m_fine_rows = n;
+    m_fine_nonzeros = A.nonZeros();
+    m_fine_diagonal.resize(std::size_t(n));
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    for (long j = 0; j < n; ++j) {
+        const int* it = std::lower_bound(inner + outer[j], inner + outer[j + 1], int(j));
+        if (it == inner + outer[j + 1] || *it != j || !(A.valuePtr()[it - inner] > 0))
+            return false;
+        m_fine_diagonal[std::size_t(j)] = int(it - inner);
+    }
+    m_fine_residual.setZero(n);
+    // the coarsest operator (the fine matrix itself when there is no coarse level)
+    Eigen::MatrixXd dense;
+    if (m_levels.empty() && n > 4000)
+        return false; // no hierarchy to speak of: let the caller use another cycle
+    if (m_levels.empty()) {
+        dense = Eigen::MatrixXd(A);
+    } else {
+        const SortedCsr& c = m_levels.back().A;
+        dense.setZero(c.rows, c.rows);
+        for (int i = 0; i < c.rows; ++i)
+            for (int k = c.ptr[std::size_t(i)]; k < c.ptr[std::size_t(i) + 1]; ++k)
+                dense(i, c.column[std::size_t(k)]) = c.value[std::size_t(k)];
+        dense = 0.5 * (dense + dense.transpose()).eval(); // symmetric up to round-off
+    }
+    m_coarsest.compute(dense);
+    if (m_coarsest.info() != Eigen::Success)
+        return false;
+    m_ready = true;
+    return true;
+}
+
+void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
+    const std::size_t last = m_levels.size(); // index of the coarsest level
+    if (l == last) {
+        const int n = l == 0 ? int(m_fine_rows) : m_levels[l - 1].A.rows;
+        Eigen::Map<const Vector> bv(b, n);
+        Eigen::Map<Vector>(x, n) = m_coarsest.solve(bv);
+        return;
+    }
+    View a;
+    double* r = nullptr;
+    if (l == 0) {
+        a = { int(m_fine_rows), m_A->outerIndexPtr(), m_fine_diagonal.data(), m_A->innerIndexPtr(),
+            m_A->valuePtr() };
+        r = m_fine_residual.data();
+    } else {
+        a = view(m_levels[l - 1].A);
+        r = m_levels[l - 1].r.data();
+    }
+    forward_from_zero(a, b, x);
+    upper_residual(a, x, r);
+    // restrict to the next level: b_c = P^T r (P: rows of this level x rows of the next)
+    Level& next = m_levels[l];
+    const SortedCsr& P = next.P;
+    next.b.setZero();
+    double* bc = next.b.data();
+    for (int i = 0; i < P.rows; ++i) {
+        const double ri = r[i];
+        for (int k = P.ptr[std::size_t(i)]; k < P.ptr[std::size_t(i) + 1]; ++k)
+            bc[P.column[std::size_t(k)]] += P.value[std::size_t(k)] * ri;
+    }
+    cycle(l + 1, next.b.data(), next.x.data());
+    const double* xc = next.x.data();
+    for (int i = 0; i < P.rows; ++i) {
+        double s = 0;
+        for (int k = P.ptr[std::size_t(i)]; k < P.ptr[std::size_t(i) + 1]; ++k)
+            s += P.value[std::size_t(k)] * xc[P.column[std::size_t(k)]];
+        x[i] += s;
+    }
+    backward(a, b, x);
+}
+
+void AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
+    z.resize(r.size());
+    const SparseMatrix* matrix = &A;
+    if (!A.isCompressed()) { // not on the hot path: the integrators' matrices are compressed
+        m_compressed = A;
+        m_compressed.makeCompressed();
+        matrix = &m_compressed;
+    }
+    if (matrix->nonZeros() != m_fine_nonzeros || matrix->rows() != m_fine_rows)
+        finish(*matrix); // same size, new pattern: find the diagonal slots again
+    m_A = matrix;
+    cycle(0, r.data(), z.data());
+    m_A = nullptr;
+}
+
+void AmgCycle::clear() {
+    m_levels.clear();
+    m_fine_rows = m_fine_nonzeros = -1;
+    m_fine_diagonal.clear();
+    m_ready = false;
+}
+
+} // namespace polycut::solve::detail

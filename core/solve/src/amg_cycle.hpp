@@ -1,0 +1,77 @@
+// Private: a symmetric Gauss-Seidel V-cycle over an AMG hierarchy built elsewhere (hypre
+// BoomerAMG's interpolations P_l and Galerkin operators A_l, copied out after its set-up), with
+// the finest level on the CURRENT system matrix rather than the one of the set-up. Free of hypre.
+//
+// Per level l (n_l unknowns), from x = 0:
+//   forward Gauss-Seidel  x_i = (b_i - sum_{j<i} a_ij x_j) / a_ii    (strict lower part only)
+//   residual              r_i = -sum_{j>i} a_ij x_j                  (strict upper part only: the
+//                         forward sweep left b_i - sum_{j<=i} a_ij x_j = 0)
+//   coarse correction     x += P_l cycle(l + 1, P_l^T r)
+//   backward Gauss-Seidel x_i = (b_i - sum_{j!=i} a_ij x_j) / a_ii, i = n_l - 1 .. 0
+// and a dense Cholesky solve on the coarsest level. Down-sweep and residual together read A once
+// (hypre's cycle reads it twice: a full sweep, then a residual SpMV). The cycle is a symmetric
+// positive definite operator for any SPD coarse operators (forward and backward Gauss-Seidel are
+// adjoint, each convergent for SPD A), so PCG's theory holds although the coarse operators lag
+// behind the fine one.
+#pragma once
+
+#include "polycut/solve/sparse.hpp"
+
+#include <Eigen/Cholesky>
+#include <vector>
+
+namespace polycut::solve::detail {
+
+/// Compressed sparse rows, each row sorted by column, with the slot of its diagonal entry
+/// (square operators only): row i holds columns < i in [ptr[i], diagonal[i]) and > i in
+/// (diagonal[i], ptr[i + 1]).
+struct SortedCsr {
+    int rows = 0;
+    std::vector<int> ptr; ///< rows + 1
+    std::vector<int> diagonal; ///< rows (operators), empty (interpolations)
+    std::vector<int> column;
+    std::vector<double> value;
+};
+
+/// The V-cycle (see the file comment).
+class AmgCycle {
+public:
+    /// Adds level l's operator (coarse levels only: l >= 1) from CSR arrays (rows x rows, any
+    /// column order within a row) and the interpolation from level l - 1 (rows of level l - 1 x
+    /// rows of level l). Returns false if a diagonal entry is missing or not positive.
+    bool add_level(int rows, const int* A_ptr, const int* A_col, const double* A_val, int P_rows,
+        const int* P_ptr, const int* P_col, const double* P_val);
+    /// Finishes the set-up for a fine matrix with the pattern of A (n x n, symmetric, full
+    /// storage, sorted columns): finds its diagonal slots and factors the coarsest operator.
+    /// Returns false if a diagonal is missing or the coarsest operator is not SPD.
+    bool finish(const SparseMatrix& A);
+    /// z = B r, one V-cycle from zero with A as the finest operator (same pattern as in
+    /// finish(); its values may have changed). r, z: n.
+    void apply(const SparseMatrix& A, const Vector& r, Vector& z);
+    /// Levels including the finest (0 before finish()).
+    int levels() const { return m_ready ? int(m_levels.size()) + 1 : 0; }
+    /// Unknowns of the fine matrix the cycle was finished for (-1 before finish()).
+    long size() const { return m_ready ? m_fine_rows : -1; }
+    void clear();
+
+private:
+    struct Level {
+        SortedCsr A; ///< operator of this level (unused on level 0: the current matrix is used)
+        SortedCsr P; ///< interpolation from this level to the finer one (rows of the finer one)
+        Vector b, x, r; ///< right-hand side, iterate, residual (n_l)
+    };
+    void cycle(std::size_t l, const double* b, double* x);
+
+    std::vector<Level> m_levels; ///< coarse levels 1 .. L-1 (index l - 1)
+    // finest level: slots of the current matrix
+    long m_fine_rows = -1;
+    long m_fine_nonzeros = -1;
+    std::vector<int> m_fine_diagonal; ///< value slot of each diagonal entry of A
+    Vector m_fine_residual;
+    const SparseMatrix* m_A = nullptr; ///< the matrix of the running apply()
+    SparseMatrix m_compressed; ///< apply() on an uncompressed matrix: its compressed copy
+    Eigen::LLT<Eigen::MatrixXd> m_coarsest;
+    bool m_ready = false;
+};
+
+} // namespace polycut::solve::detail
