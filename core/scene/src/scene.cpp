@@ -16,11 +16,45 @@ using detail::ObjectReader;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxLength = 1e3; // [m] anything larger is a unit mistake
 
+constexpr std::size_t kMaxHullPoints = 1000; // one cell: beyond this a mesh is wanted
+
+/// One convex cell: explicit `points` (and `scale`) or a named `shape` (`size`, `center`).
+/// Whether the points are all corners of their hull is checked when the mesh is built.
+void parse_convex_hull(ObjectReader& r, Geometry& g) {
+    g.kind = Geometry::Kind::ConvexHull;
+    const bool has_points = r.has("points");
+    const bool has_shape = r.has("shape");
+    if (has_points == has_shape)
+        r.fail(has_points ? "shape" : "points",
+            has_points ? "give either \"points\" or \"shape\", not both"
+                       : "is required (an array of >= 4 [x, y, z] corners [m]), or give a "
+                         "\"shape\"");
+    if (has_shape) {
+        g.shape = r.choice("shape", "", { "truncated_octahedron" });
+        g.edge_length = r.number_required("size", 0, kMaxLength, true, "m");
+        g.center = r.vec3("center", g.center, false, "m");
+    } else {
+        const json& pts = r.get("points");
+        if (!pts.is_array() || pts.size() < 4 || pts.size() > kMaxHullPoints)
+            r.fail("points",
+                "must be an array of 4 to " + std::to_string(kMaxHullPoints)
+                    + " points [x, y, z] [m] (the corners of one convex cell)");
+        for (std::size_t i = 0; i < pts.size(); ++i)
+            g.points.push_back(
+                ObjectReader::parse_vec3(pts[i], r.child("points") + "/" + std::to_string(i), "m"));
+        g.scale = r.number("scale", 1.0, 0, kMaxLength, true);
+        for (std::size_t i = 0; i < g.points.size(); ++i)
+            if (!(g.points[i].cwiseAbs().maxCoeff() * g.scale <= kMaxLength))
+                throw SceneError(r.child("points") + "/" + std::to_string(i),
+                    "coordinates times scale must be within [-1000, 1000] [m]");
+    }
+}
+
 Geometry parse_geometry(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Geometry g;
-    const std::string type
-        = r.choice("type", "", { "box", "implicit", "surface_file", "mesh_file", "random_planes" });
+    const std::string type = r.choice("type", "",
+        { "box", "implicit", "surface_file", "mesh_file", "random_planes", "convex_hull" });
     if (type == "box" || type == "random_planes") {
         g.kind = type == "box" ? Geometry::Kind::Box : Geometry::Kind::RandomPlanes;
         g.origin = r.vec3("origin", g.origin, false, "m");
@@ -63,6 +97,8 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
             g.length = r.number_required("length", 0, kMaxLength, false, "m");
         g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
         g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
+    } else if (type == "convex_hull") {
+        parse_convex_hull(r, g);
     } else {
         g.kind = type == "surface_file" ? Geometry::Kind::SurfaceFile : Geometry::Kind::MeshFile;
         g.path = r.string("path", "");

@@ -1,3 +1,5 @@
+// The mesh a scene's geometry names: box grids, random-plane polyhedra, CGAL meshing of implicit
+// shapes and surface files, volume mesh files, and single convex cells.
 #include "polycut/sim/build_mesh.hpp"
 
 #include "polycut/common/error.hpp"
@@ -5,6 +7,7 @@
 #include "polycut/mesh/builders.hpp"
 #include "polycut/mesh/io.hpp"
 #include "polycut/mesh/validate.hpp"
+#include "polycut/meshing/convex_hull.hpp"
 #include "polycut/meshing/implicit.hpp"
 #include "polycut/meshing/surface.hpp"
 
@@ -23,6 +26,31 @@ void scale_mesh(mesh::Mesh& m, double scale) {
     if (scale != 1.0)
         for (Vec3& X : m.rest)
             X *= scale;
+}
+
+/// One convex polyhedral cell (seed 000 Fig. 1). The hull is taken of the points as written
+/// (or of the shape about the origin) and scaled / moved afterwards, so that points the file
+/// puts exactly on one plane stay exactly coplanar for CGAL's exact predicates.
+mesh::Mesh convex_hull_mesh(const scene::Geometry& g) {
+    const bool shape = !g.shape.empty(); // "truncated_octahedron"
+    mesh::Mesh m;
+    try {
+        m = meshing::convex_hull_cell(
+            shape ? meshing::truncated_octahedron_points(g.edge_length) : g.points);
+    } catch (const meshing::ConvexHullError& e) {
+        throw SceneError(e.index() == kNone || shape
+                ? std::string("/geometry/points")
+                : "/geometry/points/" + std::to_string(e.index()),
+            e.problem());
+    } catch (const InputError& e) {
+        throw SceneError(shape ? "/geometry/size" : "/geometry/points", e.problem());
+    }
+    if (shape)
+        for (Vec3& X : m.rest)
+            X += g.center;
+    else
+        scale_mesh(m, g.scale);
+    return m;
 }
 } // namespace
 
@@ -85,6 +113,9 @@ mesh::Mesh build_mesh(const scene::Scene& s) {
     case scene::Geometry::Kind::MeshFile:
         m = mesh::read_volume_mesh(resolve(s, g.path));
         scale_mesh(m, g.scale);
+        break;
+    case scene::Geometry::Kind::ConvexHull:
+        m = convex_hull_mesh(g);
         break;
     }
     if (m.num_cells() == 0)

@@ -13,7 +13,7 @@ namespace polycut::scene {
 
 /// Where the mesh comes from.
 struct Geometry {
-    enum class Kind { Box, Implicit, SurfaceFile, MeshFile, RandomPlanes };
+    enum class Kind { Box, Implicit, SurfaceFile, MeshFile, RandomPlanes, ConvexHull };
     Kind kind = Kind::Box;
     // Box and RandomPlanes
     Vec3 origin = Vec3::Zero(); ///< min corner [m]
@@ -23,16 +23,19 @@ struct Geometry {
     std::string tet_split = "kuhn6"; ///< "kuhn6" or "five"
     int planes_per_cell = 0; ///< RandomPlanes: random planes cutting each block
     unsigned seed = 1; ///< RandomPlanes and meshing: random seed
-    // Implicit
-    std::string shape; ///< "sphere", "ellipsoid", "capsule", "blob"
-    Vec3 center = Vec3::Zero(); ///< [m]
+    // Implicit; ConvexHull: "truncated_octahedron" or "" (explicit points)
+    std::string shape; ///< "sphere", "ellipsoid", "capsule", "blob"; "truncated_octahedron"
+    Vec3 center = Vec3::Zero(); ///< Implicit, ConvexHull shape: centre [m]
     Vec3 radii = Vec3::Constant(0.05); ///< semi-axes [m] (sphere: radii.x())
     double length = 0.1; ///< capsule segment length [m]
     // Implicit and SurfaceFile
     double cell_size = 0.01; ///< target tet size [m]
     // SurfaceFile and MeshFile
     std::string path; ///< resolved against the scene file's directory
-    double scale = 1.0; ///< file units to metres
+    double scale = 1.0; ///< file units (ConvexHull: units of `points`) to metres
+    // ConvexHull: one convex polyhedral cell whose nodes are the hull's corners
+    std::vector<Vec3> points; ///< corners (>= 4, before `scale`), empty with a shape
+    double edge_length = 0.05; ///< shape "truncated_octahedron": edge length [m]
 };
 
 /// Isotropic Hookean material with Rayleigh damping D = alpha M + beta K.
