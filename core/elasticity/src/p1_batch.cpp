@@ -127,6 +127,12 @@ struct V3 {
         std::swap(Yp, Yn);
         conv |= active & (wn2 < 1e-10);
         fail |= active & ~(wn2 < 1e-10) & ~(wn2 < 1.0);
+        const vm settled = conv | fail;
+        bool all = true;
+        for (int k = 0; k < kP1Lanes; ++k)
+            all = all && settled[k] != 0;
+        if (all)
+            break;
     }
     mul(G, *Q, R);
 }
