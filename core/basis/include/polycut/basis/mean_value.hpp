@@ -71,11 +71,11 @@ private:
 };
 
 /// Triangulation of the face loops (outward, local indices into nodes [m]) that mean value cells
-/// use: per face the minimum-weight triangulation (least total diagonal length), which avoids
-/// the needle triangles of a fan on many-sided faces. It depends on the face's vertex positions
-/// only, not on the loop's orientation or first vertex, so two cells sharing a face triangulate it
-/// identically (exact C0). Degenerate triangles are avoided where the face allows; triangles of
-/// area below area_tol [m^2] (collinear vertices) are dropped. Triangles are oriented as the loops.
+/// use: per face the Delaunay triangulation (largest smallest angle), which avoids the needle
+/// triangles of a fan on many-sided faces. It depends on the face's vertex positions only, not on
+/// the loop's orientation or first vertex, so two cells sharing a face triangulate it identically
+/// (exact C0). Degenerate triangles are avoided where the face allows; triangles of area below
+/// area_tol [m^2] (collinear vertices) are dropped. Triangles are oriented as the loops.
 std::vector<SurfaceTriangle> mean_value_triangulation(
     const std::vector<Vec3>& nodes, const std::vector<std::vector<Index>>& loops, double area_tol);
 
