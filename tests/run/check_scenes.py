@@ -6,15 +6,16 @@ import math
 import os
 import subprocess
 import sys
+import tempfile
 
 RUN, DIR, GROUP = sys.argv[1], sys.argv[2], sys.argv[3]
 ANALYTIC_TIP = 8.64e-3  # seed 002 sec. 3.3 [m]
 failures = []
 
 
-def run(name, *args):
-    out = subprocess.run([RUN, os.path.join(DIR, name + ".json"), *args], capture_output=True,
-                         text=True, timeout=900)
+def run(name, *args, path=None):
+    out = subprocess.run([RUN, path or os.path.join(DIR, name + ".json"), *args],
+                         capture_output=True, text=True, timeout=900)
     if out.returncode != 0:
         failures.append(f"{name}: exit {out.returncode}: {out.stderr.strip()}")
         return None
@@ -72,6 +73,40 @@ elif GROUP == "cuts":
         check(r["solver"]["rolled_back_steps"] == 0, f"{name}: no rolled-back steps")
     r = run("default", "--steps", "5")
     check(r is not None and "top" in r["probes"], "default: runs and reports its probe")
+elif GROUP == "falling":
+    # seed 000 Fig. 1: one 24-node cell on a slope, base fixed, under gravity (issue 4 item 5)
+    with open(os.path.join(DIR, "falling_cell.json")) as f:
+        scene = json.load(f)
+    height = 2 * math.sqrt(2) * scene["geometry"]["size"]  # truncated octahedron: 2 sqrt(2) a
+
+    def variant(tmp, **integrator):
+        s = json.loads(json.dumps(scene))
+        s["integrator"].update(integrator)
+        path = os.path.join(tmp, "falling_cell_" + "_".join(map(str, integrator.values())) + ".json")
+        with open(path, "w") as f:
+            json.dump(s, f)
+        return run("falling_cell", path=path)
+
+    def top(report):
+        return report["probes"]["top"]["displacement"]
+
+    def norm(u):
+        return math.sqrt(sum(x * x for x in u))
+
+    r = run("falling_cell")
+    with tempfile.TemporaryDirectory() as tmp:
+        static = variant(tmp, type="static", tolerance=1e-10)
+        linear = variant(tmp, corotated=False)
+    if r and static and linear:
+        check(r["mesh"]["cells"] == 1 and r["mesh"]["nodes"] == 24, "falling_cell: one cell, 24 nodes")
+        check(r["solver"]["rolled_back_steps"] == 0, "falling_cell: no rolled-back steps")
+        u, u_static, u_linear = top(r), top(static), top(linear)
+        share = norm(u) / height
+        check(0.1 <= share <= 0.3, f"falling_cell: top moved {100 * share:.1f} % of the height (10-30 %)")
+        gap = norm([a - b for a, b in zip(u, u_static)]) / norm(u_static)
+        check(gap <= 1e-3, f"falling_cell: settled after {r['steps']} steps, |u - u_static| / |u_static| = {gap:.1e} <= 1e-3")
+        nonlinear = norm([a - b for a, b in zip(u, u_linear)]) / norm(u)
+        check(nonlinear >= 0.1, f"falling_cell: corotated and linear differ by {100 * nonlinear:.1f} % (>= 10 %)")
 else:
     sys.exit(f"unknown group {GROUP}")
 
