@@ -1,6 +1,7 @@
 // A single polyhedral cell in local numbering (node positions + outward face loops), independent
-// of the Mesh, and the fan triangulation of its faces shared by the polyhedral bases (000 sec.
-// 3.2: mean value coordinates are defined on triangulated faces).
+// of the Mesh, and an orientation-independent fan triangulation of its faces (the harmonic basis
+// uses it for inside tests and its integration tetrahedra; mean value cells triangulate faces by
+// Delaunay instead, mean_value_triangulation(), because their basis depends on it: 000 sec. 3.2).
 #pragma once
 
 #include "polycut/common/types.hpp"
