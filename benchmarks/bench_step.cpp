@@ -13,7 +13,8 @@
 //                      reference from a tightly converged run (PCG + lagged CHOLMOD to 1e-12,
 //                      cached in bench_step_ref_<n>.bin in the working directory)
 //   Assemble/box<n>, SpMV/box<n>, PcgIteration/box<n>/<kind>, AmgSetup/box<n>: the parts of a
-//   step, at the state after 20 steps.
+//   step, at the state after 20 steps. "_hc" (amg20_hc, PcgIteration amg_hc): hypre's own
+//   V-cycle instead of the fused one (AmgOptions::fused_cycle = false).
 //
 // Run one thread: OPENBLAS_NUM_THREADS=1 ./bench_step --benchmark_filter=box20
 // POLYCUT_BENCH_AMG overrides solve::AmgOptions of every AMG configuration, for tuning: a comma
@@ -164,6 +165,11 @@ std::vector<Method> methods(double tol) {
     SolverOptions* every = add("amg20", LinearSolverKind::PcgAmg);
     every->refactor_every = 20;
     every->refactor_iterations = 1000;
+    // amg20 with hypre's own V-cycle instead of the fused one (session 2's configuration)
+    SolverOptions* hypre_cycle = add("amg20_hc", LinearSolverKind::PcgAmg);
+    hypre_cycle->refactor_every = 20;
+    hypre_cycle->refactor_iterations = 1000;
+    hypre_cycle->amg.fused_cycle = false;
     return list;
 }
 
@@ -324,7 +330,8 @@ void triad_bench(benchmark::State& state) {
 /// One preconditioned PCG solve from zero to 1e-6 on the snapshot's system: per iteration cost of
 /// each preconditioner. (Solved to convergence: a solve that hits its iteration limit with a
 /// lagged factor or AMG hierarchy refactors and goes on, which would count the set-up too.)
-void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p) {
+void pcg_iteration_bench(
+    benchmark::State& state, int n, solve::Preconditioner p, bool hypre_cycle) {
     const Snapshot& s = snapshot(n);
     solve::PcgOptions o;
     o.preconditioner = p;
@@ -332,6 +339,8 @@ void pcg_iteration_bench(benchmark::State& state, int n, solve::Preconditioner p
     o.max_iterations = 5000;
     o.refactor_iterations = 5000;
     o.amg = amg_options();
+    if (hypre_cycle)
+        o.amg.fused_cycle = false;
     solve::PcgSolver pcg(o);
     pcg.set_coordinates(free_coordinates(*s.box.model, s.state.x));
     VecX x;
@@ -382,9 +391,10 @@ int main(int argc, char** argv) {
                  std::pair { "block_jacobi", solve::Preconditioner::BlockJacobi3 },
                  std::pair { "lagged", solve::Preconditioner::LaggedCholesky },
                  std::pair { "ic", solve::Preconditioner::IncompleteCholesky },
-                 std::pair { "amg", solve::Preconditioner::Amg } })
-            benchmark::RegisterBenchmark(
-                ("PcgIteration/" + box + "/" + name).c_str(), pcg_iteration_bench, n, p)
+                 std::pair { "amg", solve::Preconditioner::Amg },
+                 std::pair { "amg_hc", solve::Preconditioner::Amg } })
+            benchmark::RegisterBenchmark(("PcgIteration/" + box + "/" + name).c_str(),
+                pcg_iteration_bench, n, p, std::string(name) == "amg_hc")
                 ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("AmgSetup/" + box).c_str(), amg_setup_bench, n)
             ->Unit(benchmark::kMillisecond);

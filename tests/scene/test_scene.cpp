@@ -113,6 +113,12 @@ TEST(Scene, SolverWarmStartParses) {
     const Scene s = parse_scene(with(
         loads, loads + R"(, "solver": {"preconditioner": "amg", "warm_start": "extrapolated"})"));
     EXPECT_EQ(s.solver.warm_start, "extrapolated");
+    EXPECT_EQ(s.solver.refactor_iterations, 50);
+    EXPECT_EQ(parse_scene(with(loads, loads + R"(, "solver": {"refactor_iterations": 10})"))
+                  .solver.refactor_iterations,
+        10);
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"refactor_iterations": -1})")),
+        "/solver/refactor_iterations");
     EXPECT_EQ(s.solver.preconditioner, "amg");
     EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"warm_start": "linear"})")),
         "/solver/warm_start");

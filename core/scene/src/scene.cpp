@@ -158,6 +158,8 @@ Solver parse_solver(const json& j, const std::string& ptr) {
     s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
     s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
     s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));
+    s.refactor_iterations
+        = int(r.integer("refactor_iterations", s.refactor_iterations, 0, 1000000));
     s.warm_start = r.choice("warm_start", s.warm_start, { "previous", "extrapolated" });
     r.finish();
     return s;

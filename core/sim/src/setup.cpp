@@ -145,6 +145,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.relative_tolerance = sv.tolerance;
     o.solver.max_iterations = sv.max_iterations;
     o.solver.refactor_every = sv.refactor_every;
+    o.solver.refactor_iterations = sv.refactor_iterations;
     o.extrapolate_warm_start = sv.warm_start == "extrapolated";
     return o;
 }

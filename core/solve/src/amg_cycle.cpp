@@ -9,13 +9,14 @@ namespace polycut::solve::detail {
 
 namespace {
 
-/// Rows of a square operator: CSR arrays and diagonal slots.
+/// Rows of a square operator: CSR arrays, diagonal slots and inverse diagonal entries.
 struct View {
     int rows;
     const int* ptr;
     const int* diagonal;
     const int* column;
     const double* value;
+    const double* inverse_diagonal;
 };
 
 /// x = forward Gauss-Seidel sweep from x = 0: only the strict lower part is read.
@@ -24,7 +25,7 @@ void forward_from_zero(const View& a, const double* b, double* x) {
         double s = b[i];
         for (int k = a.ptr[i]; k < a.diagonal[i]; ++k)
             s -= a.value[k] * x[a.column[k]];
-        x[i] = s / a.value[a.diagonal[i]];
+        x[i] = s * a.inverse_diagonal[i]; // no division in the dependency chain
     }
 }
 
@@ -46,12 +47,13 @@ void backward(const View& a, const double* b, double* x) {
             s -= a.value[k] * x[a.column[k]];
         for (int k = a.diagonal[i] + 1; k < a.ptr[i + 1]; ++k)
             s -= a.value[k] * x[a.column[k]];
-        x[i] = s / a.value[a.diagonal[i]];
+        x[i] = s * a.inverse_diagonal[i]; // no division in the dependency chain
     }
 }
 
-View view(const SortedCsr& m) {
-    return { m.rows, m.ptr.data(), m.diagonal.data(), m.column.data(), m.value.data() };
+View view(const SortedCsr& m, const Vector& inverse_diagonal) {
+    return { m.rows, m.ptr.data(), m.diagonal.data(), m.column.data(), m.value.data(),
+        inverse_diagonal.data() };
 }
 
 } // namespace
@@ -97,6 +99,9 @@ bool AmgCycle::add_level(int rows, const int* A_ptr, const int* A_col, const dou
         p -= p_base;
     P.column.assign(P_col + p_base, P_col + P_ptr[P_rows]);
     P.value.assign(P_val + p_base, P_val + P_ptr[P_rows]);
+    level.inverse_diagonal.resize(rows);
+    for (int i = 0; i < rows; ++i)
+        level.inverse_diagonal[i] = 1.0 / A.value[std::size_t(A.diagonal[std::size_t(i)])];
     level.b.setZero(rows);
     level.x.setZero(rows);
     level.r.setZero(rows);
@@ -121,6 +126,7 @@ bool AmgCycle::finish(const SparseMatrix& A) {
         m_fine_diagonal[std::size_t(j)] = int(it - inner);
     }
     m_fine_residual.setZero(n);
+    m_fine_inverse_diagonal.setZero(n);
     // the coarsest operator (the fine matrix itself when there is no coarse level)
     Eigen::MatrixXd dense;
     if (m_levels.empty() && n > 4000)
@@ -154,10 +160,10 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
     double* r = nullptr;
     if (l == 0) {
         a = { int(m_fine_rows), m_A->outerIndexPtr(), m_fine_diagonal.data(), m_A->innerIndexPtr(),
-            m_A->valuePtr() };
+            m_A->valuePtr(), m_fine_inverse_diagonal.data() };
         r = m_fine_residual.data();
     } else {
-        a = view(m_levels[l - 1].A);
+        a = view(m_levels[l - 1].A, m_levels[l - 1].inverse_diagonal);
         r = m_levels[l - 1].r.data();
     }
     forward_from_zero(a, b, x);
@@ -194,6 +200,9 @@ void AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
     if (matrix->nonZeros() != m_fine_nonzeros || matrix->rows() != m_fine_rows)
         finish(*matrix); // same size, new pattern: find the diagonal slots again
     m_A = matrix;
+    const double* values = matrix->valuePtr();
+    for (long i = 0; i < m_fine_rows; ++i)
+        m_fine_inverse_diagonal[i] = 1.0 / values[m_fine_diagonal[std::size_t(i)]];
     cycle(0, r.data(), z.data());
     m_A = nullptr;
 }

@@ -58,6 +58,7 @@ private:
     struct Level {
         SortedCsr A; ///< operator of this level (unused on level 0: the current matrix is used)
         SortedCsr P; ///< interpolation from this level to the finer one (rows of the finer one)
+        Vector inverse_diagonal; ///< 1 / a_ii (n_l)
         Vector b, x, r; ///< right-hand side, iterate, residual (n_l)
     };
     void cycle(std::size_t l, const double* b, double* x);
@@ -68,6 +69,7 @@ private:
     long m_fine_nonzeros = -1;
     std::vector<int> m_fine_diagonal; ///< value slot of each diagonal entry of A
     Vector m_fine_residual;
+    Vector m_fine_inverse_diagonal; ///< of the current matrix, refreshed per apply()
     const SparseMatrix* m_A = nullptr; ///< the matrix of the running apply()
     SparseMatrix m_compressed; ///< apply() on an uncompressed matrix: its compressed copy
     Eigen::LLT<Eigen::MatrixXd> m_coarsest;

@@ -71,6 +71,8 @@ struct Solver {
     int max_iterations = 2000;
     /// lagged_cholesky, amg: refactor (set up again) every k solves (0 = on demand)
     int refactor_every = 0;
+    /// lagged_cholesky, amg: ...or when a solve needed more PCG iterations than this
+    int refactor_iterations = 50;
     /// implicit_euler with pcg / cg_relaxation: initial guess of the velocity increment dv,
     /// "previous" (dv_{n-1}) or "extrapolated" (2 dv_{n-1} - dv_{n-2})
     std::string warm_start = "previous";
