@@ -18,7 +18,6 @@
 
 #include <benchmark/benchmark.h>
 #include <cmath>
-#include <ctime>
 #include <memory>
 #include <string>
 
@@ -29,12 +28,6 @@ namespace {
 
 constexpr int kWarmup = 5;
 constexpr int kTimed = 30;
-
-double process_cpu_ms() {
-    timespec t {};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
-}
 
 enum class Kind { Mvc, Harmonic, Tet, Hex };
 

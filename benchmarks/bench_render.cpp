@@ -9,8 +9,6 @@
 #include <benchmark/benchmark.h>
 #include <cmath>
 #include <numbers>
-#include <sys/resource.h>
-#include <time.h>
 
 namespace {
 
@@ -59,21 +57,8 @@ const Blob& blob_50k() {
     return blob;
 }
 
-/// CPU time of the whole process, all threads (llvmpipe rasterizes on worker threads) [ms].
-double process_cpu_ms() {
-    rusage usage {};
-    getrusage(RUSAGE_SELF, &usage);
-    return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) * 1e3
-        + double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-3;
-}
-
-/// CPU time of the calling thread [ms] (the GL API thread: llvmpipe shades vertices and bins
-/// triangles here; its rasterizer threads show in process_cpu_ms only).
-double thread_cpu_ms() {
-    timespec t {};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
-}
+// process_cpu_ms() (all threads: llvmpipe rasterizes on worker threads) and thread_cpu_ms() (the
+// GL API thread: llvmpipe shades vertices and bins triangles there) from polycut/common/stats.hpp.
 
 void report(benchmark::State& state, const std::vector<double>& times_ms, std::size_t triangles,
     double cpu_ms) {

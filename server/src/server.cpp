@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <thread>
-#include <time.h>
 
 namespace polycut::server {
 
@@ -39,12 +38,6 @@ SessionConfig session_config(const ServerConfig& c) {
 }
 
 } // namespace
-
-double thread_cpu_ms() {
-    timespec t {};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
-}
 
 Server::Impl::Impl(ServerConfig cfg, std::atomic<bool>& stop_flag)
     : config(std::move(cfg))

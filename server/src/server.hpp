@@ -68,8 +68,5 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
-/// CPU time of the calling thread [ms] (CLOCK_THREAD_CPUTIME_ID). Beside a wall time it tells
-/// work from waiting for a core: a step whose wall time is many times its CPU time was starved.
-double thread_cpu_ms();
 
 } // namespace polycut::server

@@ -67,11 +67,11 @@ int replay(const std::string& log, const std::string& scene_dir, long until_tick
     // than the replayed one at the same work is CPU contention, not simulation work).
     std::vector<double> step_ms, cpu_ms, iterations;
     double cut_ms = 0.0, worst_cut_ms = 0.0;
-    double cpu_before = polycut::server::thread_cpu_ms();
+    double cpu_before = polycut::thread_cpu_ms();
     const auto summary = polycut::server::replay_command_log(
         log, session,
         [&](const polycut::server::Session&, const polycut::sim::StepReport& report) {
-            const double cpu = polycut::server::thread_cpu_ms();
+            const double cpu = polycut::thread_cpu_ms();
             step_ms.push_back(report.step_ms);
             cpu_ms.push_back(cpu - cpu_before); // includes the commands applied before the tick
             cpu_before = cpu;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <numeric>
 
 namespace polycut {
@@ -35,5 +36,17 @@ Summary summarize(const std::vector<double>& sample)
     s.p99 = percentile(sorted, 99);
     return s;
 }
+
+namespace {
+double clock_ms(clockid_t clock) {
+    timespec t {};
+    clock_gettime(clock, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+} // namespace
+
+double process_cpu_ms() { return clock_ms(CLOCK_PROCESS_CPUTIME_ID); }
+
+double thread_cpu_ms() { return clock_ms(CLOCK_THREAD_CPUTIME_ID); }
 
 } // namespace polycut

@@ -19,6 +19,12 @@ double percentile(std::vector<double> sample, double q);
 /// Summary of a sample; an empty sample gives count 0 and zeros.
 Summary summarize(const std::vector<double>& sample);
 
+/// CPU time of the whole process, all threads [ms] (CLOCK_PROCESS_CPUTIME_ID). On a shared,
+/// loaded machine it is the fairer cost of a piece of work than a wall time.
+double process_cpu_ms();
+/// CPU time of the calling thread [ms] (CLOCK_THREAD_CPUTIME_ID).
+double thread_cpu_ms();
+
 /// Wall-clock stopwatch on steady_clock.
 class Stopwatch {
 public:
