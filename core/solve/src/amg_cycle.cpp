@@ -9,6 +9,21 @@ namespace polycut::solve::detail {
 
 namespace {
 
+/// sum_k a[k] x[column[k]] over [begin, end) with two accumulators (two dependency chains; the
+/// sweeps and SpMVs here are bound by the latency of the additions, not by bandwidth, while A
+/// fits in the cache).
+inline double row_dot(const double* a, const int* column, const double* x, int begin, int end) {
+    double even = 0, odd = 0;
+    int k = begin;
+    for (; k + 1 < end; k += 2) {
+        even += a[k] * x[column[k]];
+        odd += a[k + 1] * x[column[k + 1]];
+    }
+    if (k < end)
+        even += a[k] * x[column[k]];
+    return even + odd;
+}
+
 /// Rows of a square operator: CSR arrays, diagonal slots and inverse diagonal entries.
 struct View {
     int rows;
@@ -22,32 +37,23 @@ struct View {
 /// x = forward Gauss-Seidel sweep from x = 0: only the strict lower part is read.
 void forward_from_zero(const View& a, const double* b, double* x) {
     for (int i = 0; i < a.rows; ++i) {
-        double s = b[i];
-        for (int k = a.ptr[i]; k < a.diagonal[i]; ++k)
-            s -= a.value[k] * x[a.column[k]];
+        const double s = b[i] - row_dot(a.value, a.column, x, a.ptr[i], a.diagonal[i]);
         x[i] = s * a.inverse_diagonal[i]; // no division in the dependency chain
     }
 }
 
 /// r = b - A x after forward_from_zero(): -(strict upper part) x.
 void upper_residual(const View& a, const double* x, double* r) {
-    for (int i = 0; i < a.rows; ++i) {
-        double s = 0;
-        for (int k = a.diagonal[i] + 1; k < a.ptr[i + 1]; ++k)
-            s -= a.value[k] * x[a.column[k]];
-        r[i] = s;
-    }
+    for (int i = 0; i < a.rows; ++i)
+        r[i] = -row_dot(a.value, a.column, x, a.diagonal[i] + 1, a.ptr[i + 1]);
 }
 
 /// One backward Gauss-Seidel sweep on x (the adjoint of the forward sweep).
 void backward(const View& a, const double* b, double* x) {
     for (int i = a.rows - 1; i >= 0; --i) {
-        double s = b[i];
-        for (int k = a.ptr[i]; k < a.diagonal[i]; ++k)
-            s -= a.value[k] * x[a.column[k]];
-        for (int k = a.diagonal[i] + 1; k < a.ptr[i + 1]; ++k)
-            s -= a.value[k] * x[a.column[k]];
-        x[i] = s * a.inverse_diagonal[i]; // no division in the dependency chain
+        const double lower = row_dot(a.value, a.column, x, a.ptr[i], a.diagonal[i]);
+        const double upper = row_dot(a.value, a.column, x, a.diagonal[i] + 1, a.ptr[i + 1]);
+        x[i] = (b[i] - lower - upper) * a.inverse_diagonal[i];
     }
 }
 

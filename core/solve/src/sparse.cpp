@@ -34,10 +34,16 @@ void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y) {
     for (long j = 0; j < n; ++j) {
         const int begin = outer[j];
         const int end = counts ? begin + counts[j] : outer[j + 1];
-        double sum = 0;
-        for (int k = begin; k < end; ++k)
-            sum += values[k] * xs[inner[k]];
-        y[j] = sum;
+        // two accumulators: the additions of one row form two dependency chains, not one
+        double even = 0, odd = 0;
+        int k = begin;
+        for (; k + 1 < end; k += 2) {
+            even += values[k] * xs[inner[k]];
+            odd += values[k + 1] * xs[inner[k + 1]];
+        }
+        if (k < end)
+            even += values[k] * xs[inner[k]];
+        y[j] = even + odd;
     }
 }
 
