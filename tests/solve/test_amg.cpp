@@ -213,6 +213,41 @@ TEST(Amg, FusedCycleMatchesHypresAndSmoothsWithTheCurrentMatrix) {
             + std::to_string(its[0][1]) + " " + std::to_string(its[1][1]));
 }
 
+TEST(Amg, FusedCycleFollowsAPatternChangeOfTheSameSize) {
+    // The lagged hierarchy meets a matrix of the same size with more nonzeros (new couplings,
+    // as after a topology change that keeps the DOF count): the fused cycle finds the new
+    // diagonal slots and PCG converges without a new set-up.
+    const BoxSystem s = box_system(6);
+    const double h = 0.01, beta = 0.01;
+    SparseMatrix A = (h * h + h * beta) * s.K;
+    A.diagonal() += s.mass;
+    const double eps = 1e-3 * A.diagonal().minCoeff();
+    std::vector<Eigen::Triplet<double, int>> extra;
+    for (int i = 0; i + 40 < int(A.rows()); i += 7) {
+        extra.emplace_back(i, i + 40, eps);
+        extra.emplace_back(i + 40, i, eps);
+        extra.emplace_back(i, i, 2 * eps);
+        extra.emplace_back(i + 40, i + 40, 2 * eps);
+    }
+    SparseMatrix E(A.rows(), A.cols());
+    E.setFromTriplets(extra.begin(), extra.end());
+    SparseMatrix A2 = A + E;
+    A2.makeCompressed();
+    ASSERT_GT(A2.nonZeros(), A.nonZeros());
+    PcgOptions o = amg_options(1e-10);
+    o.refactor_iterations = 1000;
+    PcgSolver pcg(o);
+    const Vector b = random_vector(A.rows(), 4);
+    Vector x;
+    ASSERT_EQ(pcg.solve(A, b, x).status, SolveStatus::Ok);
+    Vector x2;
+    const PcgResult r = pcg.solve(A2, b, x2);
+    ASSERT_EQ(r.status, SolveStatus::Ok);
+    EXPECT_FALSE(r.refactored);
+    EXPECT_EQ(pcg.refactorizations(), 1);
+    EXPECT_LE(Vector(A2 * x2 - b).norm(), 1e-10 * b.norm() * (1 + 1e-9));
+}
+
 TEST(Amg, LaggedHierarchyIsReusedAndRedoneWhenTooSlow) {
     const BoxSystem s = box_system(8);
     const double h = 0.01, beta = 0.01;

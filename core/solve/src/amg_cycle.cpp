@@ -195,7 +195,7 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
     backward(a, b, x);
 }
 
-void AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
+bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
     z.resize(r.size());
     const SparseMatrix* matrix = &A;
     if (!A.isCompressed()) { // not on the hot path: the integrators' matrices are compressed
@@ -203,14 +203,25 @@ void AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
         m_compressed.makeCompressed();
         matrix = &m_compressed;
     }
-    if (matrix->nonZeros() != m_fine_nonzeros || matrix->rows() != m_fine_rows)
-        finish(*matrix); // same size, new pattern: find the diagonal slots again
+    // same size, new pattern (the diagonal slots moved): find them again
+    const auto slots_hold = [&] {
+        const int* inner = matrix->innerIndexPtr();
+        for (long i = 0; i < m_fine_rows; ++i)
+            if (inner[m_fine_diagonal[std::size_t(i)]] != i)
+                return false;
+        return true;
+    };
+    if (!m_ready || matrix->nonZeros() != m_fine_nonzeros || matrix->rows() != m_fine_rows
+        || !slots_hold())
+        if (!finish(*matrix))
+            return false;
     m_A = matrix;
     const double* values = matrix->valuePtr();
     for (long i = 0; i < m_fine_rows; ++i)
         m_fine_inverse_diagonal[i] = 1.0 / values[m_fine_diagonal[std::size_t(i)]];
     cycle(0, r.data(), z.data());
     m_A = nullptr;
+    return true;
 }
 
 void AmgCycle::clear() {

@@ -45,9 +45,10 @@ public:
     /// storage, sorted columns): finds its diagonal slots and factors the coarsest operator.
     /// Returns false if a diagonal is missing or the coarsest operator is not SPD.
     bool finish(const SparseMatrix& A);
-    /// z = B r, one V-cycle from zero with A as the finest operator (same pattern as in
-    /// finish(); its values may have changed). r, z: n.
-    void apply(const SparseMatrix& A, const Vector& r, Vector& z);
+    /// z = B r, one V-cycle from zero with A as the finest operator (n x n like in finish();
+    /// its values may have changed, a changed pattern is detected and its diagonal slots found
+    /// again). r, z: n. False if A has a missing or non-positive diagonal entry.
+    bool apply(const SparseMatrix& A, const Vector& r, Vector& z);
     /// Levels including the finest (0 before finish()).
     int levels() const { return m_ready ? int(m_levels.size()) + 1 : 0; }
     /// Unknowns of the fine matrix the cycle was finished for (-1 before finish()).

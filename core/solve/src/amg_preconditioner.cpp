@@ -306,7 +306,8 @@ struct AmgPreconditioner::Impl {
         if (use_cycle) {
             if (A.rows() != n)
                 return SolveStatus::NotReady;
-            cycle.apply(A, r, z);
+            if (!cycle.apply(A, r, z))
+                return SolveStatus::NotPositiveDefinite;
             return z.allFinite() ? SolveStatus::Ok : SolveStatus::NonFinite;
         }
         z.resize(n);
