@@ -60,13 +60,20 @@ void scale_shift_multiply(
     for (long j = 0; j < n; ++j) {
         const int begin = outer[j];
         const int end = counts ? begin + counts[j] : outer[j + 1];
-        double sum = 0;
-        for (int k = begin; k < end; ++k) {
-            const double v = values[k];
-            sum += v * xs[inner[k]];
-            out[k] = a * v + (inner[k] == j ? d[j] : 0.0);
+        double even = 0, odd = 0; // two dependency chains, as in multiply_symmetric
+        int k = begin;
+        for (; k + 1 < end; k += 2) {
+            const double v0 = values[k], v1 = values[k + 1];
+            even += v0 * xs[inner[k]];
+            odd += v1 * xs[inner[k + 1]];
+            out[k] = a * v0 + (inner[k] == j ? d[j] : 0.0);
+            out[k + 1] = a * v1 + (inner[k + 1] == j ? d[j] : 0.0);
         }
-        y[j] = sum;
+        if (k < end) {
+            even += values[k] * xs[inner[k]];
+            out[k] = a * values[k] + (inner[k] == j ? d[j] : 0.0);
+        }
+        y[j] = even + odd;
     }
 }
 
