@@ -30,7 +30,6 @@
 #include <Eigen/Cholesky>
 #include <benchmark/benchmark.h>
 #include <cstdlib>
-#include <ctime>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -46,12 +45,6 @@ namespace {
 constexpr int kWarmup = 10;
 constexpr int kTimed = 50;
 constexpr int kAccuracyStep = 50;
-
-double process_cpu_ms() {
-    timespec t {};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
-}
 
 /// One benchmark box: the mesh and a model over it (both on the heap: the model points at the
 /// mesh).
