@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <string>
 
 namespace {
@@ -52,7 +53,16 @@ int main(int argc, char** argv) {
 
     try {
         scene::Scene scene = scene::load_scene(scene_path);
-        sim::Simulation sim(std::move(scene));
+        // Errors found while building the mesh and model name the file like parse errors do.
+        auto make_sim = [&] {
+            try {
+                return std::make_unique<sim::Simulation>(std::move(scene));
+            } catch (const SceneError& e) {
+                throw SceneError(e.where(), e.problem() + " (in " + scene_path + ")");
+            }
+        };
+        const std::unique_ptr<sim::Simulation> sim_ptr = make_sim();
+        sim::Simulation& sim = *sim_ptr;
         const scene::Scene& sc = sim.scene();
         run::RunRecord rec;
         rec.scene = sc.name;

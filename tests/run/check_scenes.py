@@ -107,6 +107,17 @@ elif GROUP == "falling":
         check(gap <= 1e-3, f"falling_cell: settled after {r['steps']} steps, |u - u_static| / |u_static| = {gap:.1e} <= 1e-3")
         nonlinear = norm([a - b for a, b in zip(u, u_linear)]) / norm(u)
         check(nonlinear >= 0.1, f"falling_cell: corotated and linear differ by {100 * nonlinear:.1f} % (>= 10 %)")
+    # A hull point that is not a corner: exit 2, the error names the point and the file (mesh
+    # construction errors are reported like parse errors).
+    with tempfile.TemporaryDirectory() as tmp:
+        bad = os.path.join(tmp, "bad_hull.json")
+        with open(bad, "w") as f:
+            json.dump({"name": "bad_hull", "material": {"youngs_modulus": 1e4},
+                       "geometry": {"type": "convex_hull", "points": [
+                           [0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.1, 0.1, 0.1]]}}, f)
+        out = subprocess.run([RUN, bad], capture_output=True, text=True, timeout=60)
+        check(out.returncode == 2 and "/geometry/points/4" in out.stderr and bad in out.stderr,
+              f"bad hull: exit {out.returncode}, error names the point and the file: {out.stderr.strip()}")
 else:
     sys.exit(f"unknown group {GROUP}")
 
