@@ -81,6 +81,8 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles) {
         detail::separate(ed, crack);
     }
     detail::fix_pinched_edges(ed);
+    if (m_impl->opt.merge_cut_faces)
+        report.cut_faces_merged = detail::merge_cut_faces(ed, ed.changed_cells());
     if (m_impl->opt.coarsen)
         report.nodes_coarsened = detail::remove_collinear_nodes(ed, ed.changed_cells());
     detail::merge_slivers(ed);

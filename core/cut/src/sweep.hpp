@@ -19,6 +19,12 @@ void separate(Editor& ed, const std::vector<Index>& crack);
 /// keep their shape. Returns the number of nodes taken out (they stay in the node table, unused).
 Index remove_collinear_nodes(Editor& ed, const std::vector<Index>& cells);
 
+/// Merges, in each of `cells`, Cut boundary faces that lie in one plane (to round-off), share one
+/// chain of edges and whose union is a convex polygon; the chain's interior nodes leave the cell
+/// (only if no other face uses them). Compacts the face table (renumbers the cells' face lists,
+/// face parents and CutReport::cut_faces). Returns the number of faces merged away.
+Index merge_cut_faces(Editor& ed, const std::vector<Index>& cells);
+
 /// Merges the cells a call left with less than CutOptions::sliver_volume of the volume of their
 /// largest interior neighbour into the neighbour whose union with them stays convex (000 sec. 4);
 /// compacts cells and faces and fills CutReport::{cell_map, removed_cells, slivers_merged}.

@@ -27,6 +27,10 @@ struct CutOptions {
     /// straight edge of every face using them (earlier crack-front positions): same geometry,
     /// fewer DOFs and smaller cells on progressive cuts.
     bool coarsen = true;
+    /// Before coarsening, merge Cut faces of a changed cell that lie in one plane (to round-off),
+    /// share one chain of edges and form a convex polygon together: the corners of each tick's
+    /// crack faces then lie on straight edges and coarsening removes them.
+    bool merge_cut_faces = true;
     /// Insert a pocket node when a cut polygon covers no node that could separate (000 sec. 5.2).
     bool pockets = true;
     /// Cells a call leaves with a rest volume below sliver_volume * (volume of their largest

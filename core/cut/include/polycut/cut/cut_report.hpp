@@ -47,9 +47,12 @@ struct CutReport {
     /// Old cell id -> new id (kNone if merged away); empty when no cell was removed.
     std::vector<Index> cell_map;
     std::vector<Index> removed_cells; ///< old ids of cells merged away by sliver removal
-    std::vector<Index> cut_faces; ///< faces tagged Cut by this call (both sides)
+    /// Faces tagged Cut by this call (both sides; a face that grew by merging with one counts)
+    std::vector<Index> cut_faces;
     Index pockets = 0; ///< pocket nodes inserted (each counted once per side)
     Index slivers_merged = 0; ///< cells removed by sliver merging
+    /// Cut faces merged into a coplanar Cut face of the same cell (face ids then renumbered)
+    Index cut_faces_merged = 0;
     Index nodes_coarsened = 0; ///< collinear nodes taken out of the changed cells' faces
     Index slivers_kept = 0; ///< slivers left because no merge with a neighbour stayed convex
     Index cells_skipped = 0; ///< crossed cells left unsplit (degenerate configuration)
