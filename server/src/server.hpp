@@ -68,5 +68,4 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
-
 } // namespace polycut::server

@@ -4,7 +4,6 @@
 // compact and the full scatter (partly fixed nodes), the vectorized rotation update (small
 // rotation since the last assembly) and its scalar fall-back (90 degrees from a cold start).
 #include "helpers.hpp"
-
 #include "polycut/geometry/affine_fit.hpp"
 
 using namespace polycut;
@@ -56,8 +55,7 @@ Reference reference(const ElasticModel& model, const MatX3& x) {
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < 3; ++b) {
                         const Index r = model.dof_map()[std::size_t(3 * ni + a)];
-                        const Index s
-                            = model.dof_map()[std::size_t(3 * nodes[std::size_t(j)] + b)];
+                        const Index s = model.dof_map()[std::size_t(3 * nodes[std::size_t(j)] + b)];
                         if (r != kNone && s != kNone)
                             ref.K(r, s) += Kc(3 * i + a, 3 * j + b);
                     }
@@ -86,7 +84,8 @@ TEST(P1Batch, MatchesElementDefinitionWithFallbackAndBothScatters) {
 
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> jitter(-0.01, 0.01);
-    const Mat3 Q90 = Eigen::AngleAxisd(M_PI / 2, Vec3(0.3, 1, -0.2).normalized()).toRotationMatrix();
+    const Mat3 Q90
+        = Eigen::AngleAxisd(M_PI / 2, Vec3(0.3, 1, -0.2).normalized()).toRotationMatrix();
     const Mat3 Qs = Eigen::AngleAxisd(0.02, Vec3(1, -0.5, 0.7).normalized()).toRotationMatrix();
     MatX3 x(m.num_nodes(), 3);
     for (Index i = 0; i < x.rows(); ++i)
@@ -99,8 +98,8 @@ TEST(P1Batch, MatchesElementDefinitionWithFallbackAndBothScatters) {
     for (int pass = 0; pass < 2; ++pass) {
         if (pass == 1)
             for (Index i = 0; i < x.rows(); ++i)
-                x.row(i) = (Qs * x.row(i).transpose() + Vec3(jitter(rng), 0, jitter(rng)))
-                               .transpose();
+                x.row(i)
+                    = (Qs * x.row(i).transpose() + Vec3(jitter(rng), 0, jitter(rng))).transpose();
         model.assemble(x, ForceMode::Corotated, &K, &f);
         const Reference ref = reference(model, x);
         const double fscale = ref.f.cwiseAbs().maxCoeff();

@@ -7,8 +7,7 @@
 
 namespace polycut {
 
-double percentile(std::vector<double> sample, double q)
-{
+double percentile(std::vector<double> sample, double q) {
     if (sample.empty())
         return 0.0;
     std::sort(sample.begin(), sample.end());
@@ -19,8 +18,7 @@ double percentile(std::vector<double> sample, double q)
     return sample[lo] * (1.0 - t) + sample[hi] * t;
 }
 
-Summary summarize(const std::vector<double>& sample)
-{
+Summary summarize(const std::vector<double>& sample) {
     Summary s;
     if (sample.empty())
         return s;
@@ -45,8 +43,12 @@ double clock_ms(clockid_t clock) {
 }
 } // namespace
 
-double process_cpu_ms() { return clock_ms(CLOCK_PROCESS_CPUTIME_ID); }
+double process_cpu_ms() {
+    return clock_ms(CLOCK_PROCESS_CPUTIME_ID);
+}
 
-double thread_cpu_ms() { return clock_ms(CLOCK_THREAD_CPUTIME_ID); }
+double thread_cpu_ms() {
+    return clock_ms(CLOCK_THREAD_CPUTIME_ID);
+}
 
 } // namespace polycut

@@ -1,10 +1,9 @@
 #include "polycut/elasticity/elastic_model.hpp"
 
+#include "p1_batch.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/elasticity/element_stiffness.hpp"
 #include "polycut/elasticity/rotation.hpp"
-
-#include "p1_batch.hpp"
 
 #include <algorithm>
 
@@ -341,7 +340,8 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
         Mat3& R = m_rotation[c];
         if (const P1Cell& t = m_p1[c]; t.valid) {
             const int* blk = m_block_scatter.data() + 20 * c;
-            batch[pending++] = { t.nodes, t.g, t.c0, t.volume, &R, sc, blk[0] >= 0 ? blk : nullptr };
+            batch[pending++]
+                = { t.nodes, t.g, t.c0, t.volume, &R, sc, blk[0] >= 0 ? blk : nullptr };
             if (pending == detail::kP1Lanes) {
                 detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
                 pending = 0;

@@ -212,8 +212,8 @@ void p1_batch(const P1TetView* tets, int count, double lambda, double mu, const 
         V3 f[4];
         for (int i = 0; i < 4; ++i)
             for (int a = 0; a < 3; ++a)
-                f[i].v[a] = V
-                    * (P.m[a][0] * g[i].v[0] + P.m[a][1] * g[i].v[1] + P.m[a][2] * g[i].v[2]);
+                f[i].v[a]
+                    = V * (P.m[a][0] * g[i].v[0] + P.m[a][1] * g[i].v[1] + P.m[a][2] * g[i].v[2]);
         for (int k = 0; k < count; ++k)
             for (int i = 0; i < 4; ++i) {
                 double* dst = fint + 3 * std::size_t(tets[k].nodes[i]);
@@ -234,8 +234,8 @@ void p1_batch(const P1TetView* tets, int count, double lambda, double mu, const 
     int b = 0;
     for (int i = 0; i < 4; ++i)
         for (int j = i; j < 4; ++j, ++b) {
-            const vd gg = vmu
-                * (g[i].v[0] * g[j].v[0] + g[i].v[1] * g[j].v[1] + g[i].v[2] * g[j].v[2]);
+            const vd gg
+                = vmu * (g[i].v[0] * g[j].v[0] + g[i].v[1] * g[j].v[1] + g[i].v[2] * g[j].v[2]);
             for (int a = 0; a < 3; ++a)
                 for (int c = 0; c < 3; ++c)
                     B[b].m[a][c] = vl * r[i].v[a] * r[j].v[c] + vmu * r[j].v[a] * r[i].v[c]

@@ -28,11 +28,11 @@ double thread_cpu_ms();
 /// Wall-clock stopwatch on steady_clock.
 class Stopwatch {
 public:
-    Stopwatch() : m_start(std::chrono::steady_clock::now()) { }
+    Stopwatch()
+        : m_start(std::chrono::steady_clock::now()) { }
     void restart() { m_start = std::chrono::steady_clock::now(); }
     /// Elapsed time [ms].
-    double ms() const
-    {
+    double ms() const {
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - m_start)
             .count();
     }
