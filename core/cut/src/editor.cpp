@@ -275,4 +275,24 @@ void split_loop(const std::vector<Index>& loop, const std::vector<int>& s, std::
     }
 }
 
+std::vector<Index> compact_faces(mesh::Mesh& m, const std::vector<char>& dead) {
+    std::vector<Index> face_map(m.faces.size(), kNone);
+    std::vector<mesh::Face> faces;
+    faces.reserve(m.faces.size());
+    for (std::size_t f = 0; f < m.faces.size(); ++f)
+        if (!dead[f]) {
+            face_map[f] = Index(faces.size());
+            faces.push_back(std::move(m.faces[f]));
+        }
+    for (mesh::Face& face : faces)
+        if (face.parent != kNone)
+            face.parent
+                = face.parent < Index(face_map.size()) ? face_map[std::size_t(face.parent)] : kNone;
+    for (mesh::Cell& cell : m.cells)
+        for (Index& f : cell.faces)
+            f = face_map[std::size_t(f)];
+    m.faces = std::move(faces);
+    return face_map;
+}
+
 } // namespace polycut::cut::detail

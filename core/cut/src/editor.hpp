@@ -82,6 +82,11 @@ private:
 /// Position of v in loop, or -1.
 int find_in(const std::vector<Index>& loop, Index v);
 
+/// Removes the faces with dead[f] != 0 from m.faces and renumbers the cells' face lists and the
+/// faces' parents (a removed parent becomes kNone); returns old face id -> new id (kNone if
+/// removed). Owners and neighbours are left as they are.
+std::vector<Index> compact_faces(mesh::Mesh& m, const std::vector<char>& dead);
+
 /// Signs (-1, 0, +1) of a face loop: cleanly split means the nonzero signs change at most twice
 /// around the loop and every zero run between a + and a - arc has length one.
 bool clean_pattern(const std::vector<int>& signs);

@@ -151,39 +151,28 @@ bool try_merge(Editor& ed, Index c, Index f, Index g) {
     return true;
 }
 
-// Removes the dead faces from the table and renumbers the cells' face lists, the faces' parents
-// (a dead parent becomes the face it was merged into) and CutReport::cut_faces.
-void compact_faces(Editor& ed, const std::vector<Index>& merged_into) {
+// Removes the merged-away faces (a face whose parent was merged away gets the face it was merged
+// into as parent) and renumbers CutReport::cut_faces the same way.
+void compact_merged(Editor& ed, const std::vector<Index>& merged_into) {
     mesh::Mesh& m = ed.m;
-    const std::size_t nf = m.faces.size();
     auto survivor = [&](Index f) {
-        while (f != kNone && std::size_t(f) < nf && merged_into[std::size_t(f)] != kNone)
+        while (f != kNone && std::size_t(f) < merged_into.size()
+            && merged_into[std::size_t(f)] != kNone)
             f = merged_into[std::size_t(f)];
         return f;
     };
-    std::vector<Index> face_map(nf, kNone);
-    std::vector<mesh::Face> faces;
-    faces.reserve(nf);
-    for (std::size_t f = 0; f < nf; ++f)
-        if (merged_into[f] == kNone) {
-            face_map[f] = Index(faces.size());
-            faces.push_back(std::move(m.faces[f]));
-        }
-    auto map_face = [&](Index f) {
-        f = survivor(f);
-        return f == kNone || std::size_t(f) >= nf ? kNone : face_map[std::size_t(f)];
-    };
-    for (mesh::Face& face : faces)
-        face.parent = map_face(face.parent);
-    for (mesh::Cell& cell : m.cells)
-        for (Index& f : cell.faces)
-            f = face_map[std::size_t(f)];
-    m.faces = std::move(faces);
+    std::vector<char> dead(m.faces.size(), 0);
+    for (std::size_t f = 0; f < m.faces.size(); ++f)
+        dead[f] = merged_into[f] != kNone;
+    for (mesh::Face& face : m.faces)
+        face.parent = survivor(face.parent);
+    const std::vector<Index> face_map = compact_faces(m, dead);
     CutReport& r = *ed.report;
     std::vector<Index> cut_faces;
     for (Index f : r.cut_faces)
-        if (const Index g = map_face(f); g != kNone)
-            cut_faces.push_back(g);
+        if (const Index g = survivor(f);
+            g != kNone && std::size_t(g) < face_map.size() && face_map[std::size_t(g)] != kNone)
+            cut_faces.push_back(face_map[std::size_t(g)]);
     std::sort(cut_faces.begin(), cut_faces.end());
     cut_faces.erase(std::unique(cut_faces.begin(), cut_faces.end()), cut_faces.end());
     r.cut_faces = std::move(cut_faces);
@@ -219,7 +208,7 @@ Index merge_cut_faces(Editor& ed, const std::vector<Index>& cells) {
             ed.refresh_cell_nodes(c);
     }
     if (merged > 0)
-        compact_faces(ed, merged_into);
+        compact_merged(ed, merged_into);
     return merged;
 }
 

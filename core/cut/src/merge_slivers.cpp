@@ -167,8 +167,9 @@ void merge_slivers(Editor& ed) {
         return;
     const std::vector<Index> touched = ed.changed_cells();
 
-    // Compact cells and faces; renumber everything that refers to them.
-    std::vector<Index> cell_map(m.cells.size(), kNone), face_map(m.faces.size(), kNone);
+    // Compact faces, then cells; renumber everything that refers to them.
+    const std::vector<Index> face_map = compact_faces(m, dead_face);
+    std::vector<Index> cell_map(m.cells.size(), kNone);
     std::vector<mesh::Cell> cells;
     for (std::size_t c = 0; c < m.cells.size(); ++c)
         if (!dead_cell[c]) {
@@ -177,28 +178,15 @@ void merge_slivers(Editor& ed) {
         } else if (Index(c) < r.cells_before) {
             r.removed_cells.push_back(Index(c));
         }
-    std::vector<mesh::Face> faces;
-    for (std::size_t f = 0; f < m.faces.size(); ++f)
-        if (!dead_face[f]) {
-            face_map[f] = Index(faces.size());
-            faces.push_back(std::move(m.faces[f]));
-        }
-    for (mesh::Face& face : faces) {
+    for (mesh::Face& face : m.faces) {
         face.owner = cell_map[std::size_t(face.owner)];
         if (face.neighbour != kNone)
             face.neighbour = cell_map[std::size_t(face.neighbour)];
-        if (face.parent != kNone)
-            face.parent
-                = face.parent < Index(face_map.size()) ? face_map[std::size_t(face.parent)] : kNone;
     }
-    for (mesh::Cell& cell : cells) {
-        for (Index& f : cell.faces)
-            f = face_map[std::size_t(f)];
+    for (mesh::Cell& cell : cells)
         if (cell.parent != kNone && cell.parent < Index(cell_map.size()))
             cell.parent = cell_map[std::size_t(cell.parent)];
-    }
     m.cells = std::move(cells);
-    m.faces = std::move(faces);
     auto map_cell = [&](Index c) { return c == kNone ? kNone : cell_map[std::size_t(c)]; };
     // A cell merged away lives on in the cell it was merged into (chains followed).
     auto survivor = [&](Index c) {
