@@ -111,15 +111,15 @@ TEST(ReadSurface, WriteReadRoundTripInEachFormat) {
 
 TEST(ReadSurface, RejectsMalformedFiles) {
     expect_rejected(kData + "does_not_exist.off", "cannot open");
-    expect_rejected(write_text("surface.ply", "ply\n"), "unsupported");
+    expect_rejected(write_text("surface.vtk", "ply\n"), "unsupported");
     expect_rejected(write_text("empty.off", ""), "empty");
     expect_rejected(
-        write_text("garbage.off", "this is not an OFF file\n\x01\x02 garbage"), "parse");
+        write_text("garbage.off", "this is not an OFF file\n\x01\x02 garbage"), "is not OFF");
     expect_rejected(write_text("garbage.obj", "v 1 2\nf x y z\n"), "");
     expect_rejected(write_text("no_faces.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), "");
     expect_rejected(write_text("truncated.off", "OFF\n8 6 0\n0 0 0\n1 0 0\n"), "");
     expect_rejected(write_text("bad_index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"), "");
-    expect_rejected(write_text("nan.off", cube_off(true, "nan 0 0")), "parse");
+    expect_rejected(write_text("nan.off", cube_off(true, "nan 0 0")), "not a finite number");
     expect_rejected(write_text("huge.off", cube_off(true, "1e999 0 0")), "");
     expect_rejected(write_text("open.off", cube_off(false)), "not closed");
     // An open surface is fine when a closed one is not required.

@@ -198,6 +198,12 @@ ConvexPolyhedron convex_hull(const std::vector<Vec3>& points) {
                 point_text(points[i])
                     + " is not a corner of the convex hull (it lies inside it, inside one of its "
                       "faces or on an edge): every node of a polyhedral cell must be a corner");
+    // convex_hull_3 orders its faces by memory addresses, which depend on what ran before:
+    // start each loop at its smallest id and sort the loops, so that the same points always give
+    // the same faces (and bit-identical volumes and bases).
+    for (std::vector<Index>& loop : out.faces)
+        std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+    std::sort(out.faces.begin(), out.faces.end());
     return out;
 }
 

@@ -22,7 +22,7 @@ using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation>;
 
 mesh::Mesh mesh_implicit(const ImplicitShape& shape, const MeshingOptions& options) {
     check_shape(shape);
-    detail::check_options(options);
+    check_options(options);
     // Surface points are found by bisection on segments until they are shorter than
     // relative_error_bound x the bounding sphere's diameter (1e-6: ~0.1 um for a 10 cm organ).
     const std::function<double(const Point&)> value

@@ -9,33 +9,35 @@
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Random.h>
+#include <CGAL/exude_mesh_3.h>
 #include <CGAL/make_mesh_3.h>
+#include <CGAL/optimize_mesh_3.h>
+#include <CGAL/perturb_mesh_3.h>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace polycut::meshing::detail {
 
-/// Throws InputError unless every option is finite and in range.
-inline void check_options(const MeshingOptions& o) {
-    auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-    if (!positive(o.cell_size))
-        throw InputError("options.cell_size", "cell size must be finite and > 0");
-    if (!std::isfinite(o.facet_distance))
-        throw InputError("options.facet_distance", "facet distance must be finite");
-    if (!(o.facet_angle > 0 && o.facet_angle <= 30))
-        throw InputError("options.facet_angle", "facet angle must be in (0, 30] degrees");
-    if (!(o.cell_radius_edge_ratio >= 2 && std::isfinite(o.cell_radius_edge_ratio)))
-        throw InputError("options.cell_radius_edge_ratio", "radius-edge ratio must be >= 2");
-    if (!std::isfinite(o.feature_angle))
-        throw InputError("options.feature_angle", "feature angle must be finite");
+/// Called once per phase with a line of progress ("Mesh_3 refine: 27745 tets, 1240 ms").
+using MeshPhaseSink = std::function<void(const std::string&)>;
+
+/// Milliseconds since `start`.
+inline double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
 }
 
-/// Runs Mesh_3 on a domain. Every random choice CGAL makes comes from `rng` (the domain's
-/// generator, passed by the caller) or from the default generator, reseeded here.
-template <class C3t3, class Domain> C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o) {
+/// Runs Mesh_3 on a domain: refinement, then the optimisers the options select (lloyd, odt,
+/// perturb, exude, in that order, without time limits so that the mesh does not depend on
+/// speed). Every random choice CGAL makes comes from `rng` (the domain's generator, passed by
+/// the caller) or from the default generator, reseeded here. Reports each phase to `sink`.
+template <class C3t3, class Domain>
+C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o, const MeshPhaseSink& sink = {}) {
     using Criteria = CGAL::Mesh_criteria_3<typename C3t3::Triangulation>;
     namespace p = CGAL::parameters;
     CGAL::get_default_random() = CGAL::Random(o.seed);
@@ -44,12 +46,39 @@ template <class C3t3, class Domain> C3t3 run_mesh_3(const Domain& domain, const 
     const Criteria criteria(p::edge_size = size, p::facet_angle = o.facet_angle,
         p::facet_size = size, p::facet_distance = o.effective_facet_distance(),
         p::cell_radius_edge_ratio = o.cell_radius_edge_ratio, p::cell_size = size);
+    auto report = [&](const char* phase, const C3t3& c3t3, auto start) {
+        if (sink)
+            sink(std::string("Mesh_3 ") + phase + ": "
+                + std::to_string(c3t3.number_of_cells_in_complex()) + " tets, "
+                + std::to_string(long(ms_since(start))) + " ms");
+    };
     // manifold(): the boundary of the cells in the complex is a 2-manifold, which the cutter
-    // and validate() rely on. No time limits anywhere: they would make the mesh depend on speed.
-    if (o.optimize)
-        return CGAL::make_mesh_3<C3t3>(domain, criteria, p::manifold(),
-            p::odt(p::max_iteration_number = 20), p::perturb(), p::exude());
-    return CGAL::make_mesh_3<C3t3>(domain, criteria, p::manifold(), p::no_perturb(), p::no_exude());
+    // and validate() rely on.
+    auto start = std::chrono::steady_clock::now();
+    C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, p::manifold(), p::no_lloyd(), p::no_odt(),
+        p::no_perturb(), p::no_exude());
+    report("refine", c3t3, start);
+    if (o.lloyd) {
+        start = std::chrono::steady_clock::now();
+        CGAL::lloyd_optimize_mesh_3(c3t3, domain, p::max_iteration_number = 20);
+        report("lloyd", c3t3, start);
+    }
+    if (o.odt) {
+        start = std::chrono::steady_clock::now();
+        CGAL::odt_optimize_mesh_3(c3t3, domain, p::max_iteration_number = 20);
+        report("odt", c3t3, start);
+    }
+    if (o.perturb) {
+        start = std::chrono::steady_clock::now();
+        CGAL::perturb_mesh_3(c3t3, domain);
+        report("perturb", c3t3, start);
+    }
+    if (o.exude) {
+        start = std::chrono::steady_clock::now();
+        CGAL::exude_mesh_3(c3t3);
+        report("exude", c3t3, start);
+    }
+    return c3t3;
 }
 
 /// The cells in the complex as tetrahedra, with the vertices they use numbered by first use

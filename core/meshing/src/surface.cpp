@@ -23,7 +23,10 @@ using Triangulation = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Se
 using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation, Domain::Corner_index,
     Domain::Curve_index>;
 
-mesh::Mesh mesh_prepared(const SurfaceMesh& s, const MeshingOptions& options) {
+} // namespace
+
+mesh::Mesh detail::mesh_prepared_surface(
+    const SurfaceMesh& s, const MeshingOptions& options, const PhaseSink& sink) {
     Polyhedron poly;
     std::vector<Polyhedron::Vertex_index> v;
     v.reserve(s.positions.size());
@@ -35,23 +38,16 @@ mesh::Mesh mesh_prepared(const SurfaceMesh& s, const MeshingOptions& options) {
     Domain domain(poly, &rng);
     if (options.feature_angle > 0)
         domain.detect_features(options.feature_angle);
-    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options);
+    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options, sink);
     return detail::to_mesh(c3t3, "surface");
 }
 
-} // namespace
-
 mesh::Mesh mesh_surface(const SurfaceMesh& surface, const MeshingOptions& options) {
-    detail::check_options(options);
+    check_options(options);
     SurfaceMesh s = surface;
     if (std::string problem = detail::prepare_closed_surface(s); !problem.empty())
         throw InputError("surface", problem);
-    return mesh_prepared(s, options);
-}
-
-mesh::Mesh mesh_surface_file(const std::string& path, const MeshingOptions& options) {
-    detail::check_options(options);
-    return mesh_prepared(read_surface(path, true), options);
+    return detail::mesh_prepared_surface(s, options);
 }
 
 } // namespace polycut::meshing

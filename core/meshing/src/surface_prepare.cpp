@@ -38,8 +38,6 @@ std::string soup_problem(const SurfaceMesh& s) {
             if (v < 0 || v >= n)
                 return "triangle " + std::to_string(t) + " uses vertex " + std::to_string(v)
                     + ", out of range [0, " + std::to_string(n) + ")";
-        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
-            return "triangle " + std::to_string(t) + " repeats a vertex";
     }
     return {};
 }
@@ -47,6 +45,11 @@ std::string soup_problem(const SurfaceMesh& s) {
 std::string prepare_closed_surface(SurfaceMesh& s) {
     if (std::string problem = soup_problem(s); !problem.empty())
         return problem;
+    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+        const auto& tri = s.triangles[t];
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
+            return "triangle " + std::to_string(t) + " repeats a vertex";
+    }
     std::vector<Point> points;
     points.reserve(s.positions.size());
     for (const Vec3& p : s.positions)

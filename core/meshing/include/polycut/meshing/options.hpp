@@ -17,9 +17,15 @@ struct MeshingOptions {
     double cell_radius_edge_ratio = 3;
     /// Seed of every random choice CGAL makes; the same input and seed give the same mesh.
     unsigned seed = 0;
-    /// Run ODT smoothing, sliver perturbation and exudation after refinement (slower, better
-    /// dihedral angles). Without it the mesh is the plain refined Delaunay mesh.
-    bool optimize = false;
+    /// Mesh_3 optimisers, run after refinement in this order (all deterministic: no time
+    /// limits). Lloyd and ODT smoothing move the vertices towards a better size grading (each
+    /// at most 20 iterations; slow); sliver perturbation moves the vertices of the worst tets
+    /// and exudation re-weights them, both raising the smallest dihedral angle. Default: perturb
+    /// and exude, which remove most slivers for ~1.5x the refinement time.
+    bool lloyd = false;
+    bool odt = false;
+    bool perturb = true;
+    bool exude = true;
     /// Surfaces only: edges whose dihedral angle deviates from flat by more than this are kept
     /// as sharp features [deg]; <= 0 disables feature detection.
     double feature_angle = 60;
@@ -29,5 +35,8 @@ struct MeshingOptions {
         return facet_distance > 0 ? facet_distance : cell_size / 10;
     }
 };
+
+/// Throws InputError (where "options.<field>") unless every option is finite and in range.
+void check_options(const MeshingOptions& options);
 
 } // namespace polycut::meshing

@@ -1,0 +1,24 @@
+// Validation of the Mesh_3 options shared by the implicit and the surface meshers.
+#include "polycut/meshing/options.hpp"
+
+#include "polycut/common/error.hpp"
+
+#include <cmath>
+
+namespace polycut::meshing {
+
+void check_options(const MeshingOptions& o) {
+    auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+    if (!positive(o.cell_size))
+        throw InputError("options.cell_size", "cell size must be finite and > 0");
+    if (!std::isfinite(o.facet_distance))
+        throw InputError("options.facet_distance", "facet distance must be finite");
+    if (!(o.facet_angle > 0 && o.facet_angle <= 30))
+        throw InputError("options.facet_angle", "facet angle must be in (0, 30] degrees");
+    if (!(o.cell_radius_edge_ratio >= 2 && std::isfinite(o.cell_radius_edge_ratio)))
+        throw InputError("options.cell_radius_edge_ratio", "radius-edge ratio must be >= 2");
+    if (!std::isfinite(o.feature_angle))
+        throw InputError("options.feature_angle", "feature angle must be finite");
+}
+
+} // namespace polycut::meshing
