@@ -4,6 +4,7 @@
 
 #include "json_reader.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -47,6 +48,44 @@ void parse_convex_hull(ObjectReader& r, Geometry& g) {
             if (!(g.points[i].cwiseAbs().maxCoeff() * g.scale <= kMaxLength))
                 throw SceneError(r.child("points") + "/" + std::to_string(i),
                     "coordinates times scale must be within [-1000, 1000] [m]");
+    }
+}
+
+/// Mesh_3 optimisers: an array of distinct names.
+std::vector<std::string> parse_optimize(ObjectReader& r, std::vector<std::string> fallback) {
+    if (!r.has("optimize"))
+        return fallback;
+    const json& a = r.get("optimize");
+    const auto allowed = { "lloyd", "odt", "perturb", "exude" };
+    if (!a.is_array())
+        r.fail("optimize",
+            "must be an array of \"lloyd\", \"odt\", \"perturb\", \"exude\" (run in that "
+            "order)");
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const std::string at = r.child("optimize") + "/" + std::to_string(i);
+        if (!a[i].is_string() || std::none_of(allowed.begin(), allowed.end(), [&](const char* n) {
+                return a[i].get<std::string>() == n;
+            }))
+            throw SceneError(at, "must be one of \"lloyd\", \"odt\", \"perturb\", \"exude\"");
+        if (std::find(out.begin(), out.end(), a[i].get<std::string>()) != out.end())
+            throw SceneError(at, "repeats \"" + a[i].get<std::string>() + "\"");
+        out.push_back(a[i].get<std::string>());
+    }
+    return out;
+}
+
+/// surface_file: repair, components and the wrap's size.
+void parse_surface_repair(ObjectReader& r, Geometry& g) {
+    g.repair = r.choice("repair", g.repair, { "auto", "none", "pmp", "wrap" });
+    g.components = r.choice("components", g.components, { "union", "largest", "refuse" });
+    if (r.has("wrap")) {
+        if (g.repair != "auto" && g.repair != "wrap")
+            r.fail("wrap", "is only used with \"repair\": \"auto\" or \"wrap\"");
+        ObjectReader w(r.get("wrap"), r.child("wrap"));
+        g.wrap_alpha = w.number("alpha", 0, 0, kMaxLength, true, "m");
+        g.wrap_offset = w.number("offset", 0, 0, kMaxLength, true, "m");
+        w.finish();
     }
 }
 
@@ -97,6 +136,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
             g.length = r.number_required("length", 0, kMaxLength, false, "m");
         g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
         g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
+        g.optimize = parse_optimize(r, g.optimize);
     } else if (type == "convex_hull") {
         parse_convex_hull(r, g);
     } else {
@@ -108,6 +148,8 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         if (g.kind == Geometry::Kind::SurfaceFile) {
             g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
             g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
+            g.optimize = parse_optimize(r, g.optimize);
+            parse_surface_repair(r, g);
         }
     }
     r.finish();

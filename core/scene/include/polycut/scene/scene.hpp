@@ -28,8 +28,16 @@ struct Geometry {
     Vec3 center = Vec3::Zero(); ///< Implicit, ConvexHull shape: centre [m]
     Vec3 radii = Vec3::Constant(0.05); ///< semi-axes [m] (sphere: radii.x())
     double length = 0.1; ///< capsule segment length [m]
-    // Implicit and SurfaceFile
+    // Implicit and SurfaceFile: CGAL Mesh_3
     double cell_size = 0.01; ///< target tet size [m]
+    /// Mesh_3 optimisers after refinement, any of "lloyd", "odt", "perturb", "exude" (run in
+    /// that order); meshing::MeshingOptions
+    std::vector<std::string> optimize { "perturb", "exude" };
+    // SurfaceFile: treatment of a surface that is not a clean closed manifold (meshing::repair)
+    std::string repair = "auto"; ///< "auto", "none", "pmp" or "wrap"
+    std::string components = "union"; ///< "union", "largest" or "refuse"
+    double wrap_alpha = 0; ///< Alpha_wrap_3 alpha [m]; 0: cell_size
+    double wrap_offset = 0; ///< Alpha_wrap_3 offset [m]; 0: cell_size / 30
     // SurfaceFile and MeshFile
     std::string path; ///< resolved against the scene file's directory
     double scale = 1.0; ///< file units (ConvexHull: units of `points`) to metres
