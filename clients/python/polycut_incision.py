@@ -139,7 +139,8 @@ class Variant:
 def build_variants(args):
     variants = []
     cutters = [c for c in args.cutters.split(",") if c]
-    for path in args.scene or [os.path.join(REPO, "assets", "scenes", "default.json")]:
+    default = [os.path.join(REPO, "assets", "scenes", "default.json")]
+    for path in [] if args.organ_only else args.scene or default:
         scene = load_json(path)
         if args.no_gravity:
             scene.setdefault("loads", {}).pop("gravity", None)
@@ -149,7 +150,7 @@ def build_variants(args):
             unchanged = cutter == "asis" and not args.no_gravity
             variants.append(Variant(f"{base}/{cutter_of(s)}", s, cutter_of(s),
                                     path if unchanged else None))
-    if args.organ:
+    if args.organ or args.organ_only:
         if args.organ_scene:
             organ = load_json(args.organ_scene)
             name = os.path.splitext(os.path.basename(args.organ_scene))[0]
@@ -335,14 +336,16 @@ def cases_for(frame, args):
                           "vertex", [("settle", args.settle), ("stroke", Stroke(path, blade,
                                                                                seconds=sec))]))
 
+    # The highest surface point under the blade: the highest vertex within one cell of the
+    # blade's footprint (the surface between vertices is linear, so this bounds it).
+    margin = 0.003 if F.cell is None else float(max(F.cell[0], F.cell[1]))
+
     def tangent_edge(world):
-        V = world[0]
-        zt = top_z(V, F.x0, F.x1, off, 0.003 if F.cell is None else 0.5 * F.cell[1])
+        zt = top_z(world[0], F.x0 - margin, F.x1 + margin, off, margin)
         return F.line(y=off, depth=0.0, z_top=zt)
 
     def tangent_plane(world):
-        V = world[0]
-        zt = top_z(V, F.x0, F.x1, F.y, 0.01)
+        zt = top_z(world[0], F.x0 - margin, F.x1 + margin, F.y, 0.01 + margin)
         return [[F.x0, F.y - 0.01, zt], [F.x1, F.y - 0.01, zt]], [0.0, 0.02, 0.0]
 
     cases.append(Case("tangent_top", "vertical blade whose bottom edge just touches the top "
@@ -463,6 +466,7 @@ class Runner:
                 phase = "hello"
                 hello = rpc.call("hello", {"client": "polycut_incision",
                                            "protocol": live.PROTOCOL}, timeout=args.reply_timeout)
+                res["server"] = hello.get("server")
                 reader = live.StreamReader(ctx, hello["stream"])
                 reader.start()
                 time.sleep(0.3)  # the subscription reaches the PUB before the first tick
@@ -473,7 +477,7 @@ class Runner:
                 res["rest"] = {"tick": rest["tick"], "vertices": int(len(rest["positions"])),
                                "triangles": int(len(rest["triangles"])),
                                "bbox": [frame.lo.round(5).tolist(), frame.hi.round(5).tolist()]}
-                reader.set_bound(frame.centre, EXPLODED_DIAGONALS * frame.diag)
+                reader.set_bound(frame.centre, args.explode_diagonals * frame.diag)
                 reader.seed(rest)
                 case = {c.name: c for c in self.case_factory(frame)}[case_name]
                 res["description"] = case.description
@@ -499,14 +503,18 @@ class Runner:
                 except (live.ServerDied, live.RpcTimeout, live.RpcError) as e:
                     res["errors"].append(f"get_stats: {type(e).__name__}: {e}")
             res["alive"] = stats is not None and not srv.exited()
-            if not res["alive"]:
-                res["exit_before_shutdown"] = srv.returncode()
-            else:
+            if res["alive"]:
                 try:
                     rpc.call("shutdown", timeout=10.0)
                 except (live.RpcError, live.RpcTimeout, live.ServerDied) as e:
                     res["errors"].append(f"shutdown: {e}")
-            res["exit_status"] = srv.stop(timeout=15.0)
+                res["exit_status"] = srv.stop(timeout=15.0)
+            else:
+                res["exit_before_shutdown"] = srv.returncode()
+                if res["exit_before_shutdown"] is None:
+                    res["hung"] = True  # running but not answering: terminate it
+                    srv.proc.terminate()
+                res["exit_status"] = srv.stop(timeout=5.0)
         finally:
             if srv.proc is not None and srv.proc.poll() is None:
                 srv.proc.kill()
@@ -626,7 +634,7 @@ class Runner:
             events = list(reader.events)
             gaps = list(reader.seq_gaps)
             topo_without = reader.topology_without_arrays
-        bound = None if frame is None else EXPLODED_DIAGONALS * frame.diag
+        bound = None if frame is None else self.args.explode_diagonals * frame.diag
         nonfinite = sum(1 for f in frames if not f["finite"])
         exploded = sum(1 for f in frames if f["max_dist"] is not None and bound is not None
                        and f["max_dist"] > bound)
@@ -636,6 +644,8 @@ class Runner:
         fr = {"received": len(frames), "seq_gaps": len(gaps), "gap_samples": gaps[:5],
               "topology_without_arrays": topo_without, "nonfinite": nonfinite,
               "exploded": exploded, "max_dist_m": None if maxd is None else round(maxd, 4),
+              "max_dist_over_rest": None if maxd is None or frame is None
+              else round(maxd / (0.5 * frame.diag), 3),
               "bound_m": None if bound is None else round(bound, 4)}
         if frames:
             fr["first_tick"], fr["last_tick"] = ticks[0], ticks[-1]
@@ -658,8 +668,11 @@ class Runner:
         else:
             w = frames
         intervals = [(b["t"] - a["t"]) * 1000 for a, b in zip(w[:-1], w[1:])]
+        wall = (w[-1]["t"] - w[0]["t"]) if len(w) > 1 else 0.0
         tk = {"window_frames": len(w),
               "window_ticks": (w[-1]["tick"] - w[0]["tick"] + 1) if w else 0,
+              "window_s": round(wall, 3),
+              "rate_hz": round((w[-1]["tick"] - w[0]["tick"]) / wall, 2) if wall > 0 else None,
               "stream_step_ms": dist(f["step_ms"] for f in w),
               "frame_interval_ms": dist(intervals),
               "solver_iterations": dist(f["iterations"] for f in w)}
@@ -746,14 +759,22 @@ class Runner:
                 cut["completeness_world"] = round(area / (2 * ref_world), 4)
         if final is not None:
             cut["area_final_cm2"] = round(1e4 * live.tagged_area(final, 2), 4)
+            if cut.get("area_cm2"):
+                # The cut surface should not grow once the blade is gone: growth means lips
+                # flapping or a local blow-up the explosion bound does not catch.
+                cut["area_drift"] = round(cut["area_final_cm2"] / cut["area_cm2"] - 1, 4)
         res["cut"] = cut
-        # Command-to-visible: from sending a sample whose sweep triangles cross the tissue to
-        # the first frame received after it whose topology_version is above the one of the last
-        # frame received before it.
+        # Command-to-visible: from sending a sample whose sweep triangles cross the tissue (inside
+        # the rest geometry) to the first frame received after it whose topology_version is
+        # above the one of the last frame received before it. Only the first stroke along each
+        # path counts: a re-cut need not change the topology.
         lat_ms, lat_ticks, never, counted = [], [], 0, 0
         keys = [s.key() for s in strokes]
+        first = {}
+        for i, key in enumerate(keys):
+            first.setdefault(key, i)
         for t_send, (n, tick, tv, _), index, k in samples:
-            if k == 0:
+            if k == 0 or first[keys[index]] != index:
                 continue
             rest_in, areas = inside_by_key[keys[index]]
             pair = slice(2 * (k - 1), 2 * k)
@@ -774,9 +795,12 @@ class Runner:
     def judge(self, res, case):
         a = self.args
         f = res["failures"]
-        if not res.get("alive"):
-            f.append(f"server not alive (in {res.get('failed_in', 'the end check')}; exit "
-                     f"status {res.get('exit_before_shutdown')})")
+        if res.get("hung"):
+            f.append(f"server hung: running but not answering (in "
+                     f"{res.get('failed_in', 'the end check')})")
+        elif not res.get("alive"):
+            f.append(f"server exited with status {res.get('exit_before_shutdown')} (in "
+                     f"{res.get('failed_in', 'the end check')})")
         elif res.get("exit_status") not in (0, None):
             f.append(f"server exit status {res.get('exit_status')} after shutdown")
         fr = res.get("frames", {})
@@ -834,9 +858,9 @@ def fmt(v, spec="{:.3f}"):
 
 
 def table(results):
-    cols = ["variant", "case", "ok", "alive", "exit", "bad fr", "gaps", "frames/ticks",
-            "cut cm2", "ref cm2", "complete", "worst ms", "over", "step p99", "vis p50/p99 t",
-            "cut ms max", "wall s"]
+    cols = ["variant", "case", "ok", "alive", "exit", "bad fr", "gaps", "frames/ticks", "Hz",
+            "cut cm2", "ref cm2", "complete", "drift", "worst ms", "over", "step p99",
+            "vis p50/p99 t", "cut ms max", "wall s"]
     rows = []
     for r in results:
         fr = r.get("frames", {})
@@ -849,8 +873,10 @@ def table(results):
             fmt(r.get("exit_status")),
             f"{fr.get('nonfinite', 0)}/{fr.get('exploded', 0)}", fmt(fr.get("seq_gaps")),
             f"{tk.get('window_frames', '-')}/{tk.get('window_ticks', '-')}",
+            fmt(tk.get("rate_hz"), "{:.1f}"),
             fmt(cut.get("area_cm2"), "{:.2f}"), fmt(cut.get("swept_inside_cm2"), "{:.2f}"),
-            fmt(cut.get("completeness"), "{:.3f}"), fmt(st.get("worst_tick_ms"), "{:.1f}"),
+            fmt(cut.get("completeness"), "{:.3f}"), fmt(cut.get("area_drift"), "{:+.2f}"),
+            fmt(st.get("worst_tick_ms"), "{:.1f}"),
             fmt(st.get("ticks_over_budget")),
             fmt(tk.get("stream_step_ms", {}).get("p99"), "{:.1f}"),
             f"{fmt(lat.get('p50'))}/{fmt(lat.get('p99'))}",
@@ -880,6 +906,7 @@ def parse_args(argv):
                    "asis (the scene's own); default snap,split")
     p.add_argument("--organ", action="store_true", help="also the blob organ (CGAL, ~5k nodes; "
                    "slow)")
+    p.add_argument("--organ-only", action="store_true", help="only the organ")
     p.add_argument("--organ-scene", help="a scene file for the organ instead of the built-in "
                    "blob")
     p.add_argument("--organ-cell-size", type=float, default=0.0028)
@@ -904,6 +931,9 @@ def parse_args(argv):
     p.add_argument("--snap-min", type=float, default=SNAP_MIN)
     p.add_argument("--snap-max", type=float, default=SNAP_MAX)
     p.add_argument("--deformed-slack", type=float, default=DEFORMED_SLACK)
+    p.add_argument("--explode-diagonals", type=float, default=EXPLODED_DIAGONALS,
+                   help="a frame is exploded when a vertex lies further than this many rest "
+                   "bounding-box diagonals from the rest centre (3)")
     p.add_argument("--max-tick-ms", type=float, help="also fail when get_stats.worst_tick_ms "
                    "exceeds this")
     p.add_argument("--max-latency-ticks", type=float,
@@ -911,14 +941,38 @@ def parse_args(argv):
     p.add_argument("--no-assert", action="store_true", help="benchmark mode: report, exit 0")
     p.add_argument("--json", metavar="OUT", help="write all results to OUT")
     p.add_argument("--log-dir", help="keep the servers' stderr and scenes here")
-    p.add_argument("--reply-timeout", type=float, default=60.0)
+    p.add_argument("--reply-timeout", type=float, help="seconds to wait for a reply before "
+                   "the server counts as hung (default 30, 15 with --quick)")
     p.add_argument("--start-timeout", type=float, default=600.0)
     p.add_argument("--case-timeout", type=float, default=900.0)
     return p.parse_args(argv)
 
 
+def environment(args):
+    """What was measured: the binary's build time and the source tree's commit."""
+    env = {"server_bin": os.path.abspath(args.server_bin), "python": sys.version.split()[0],
+           "cpus": os.cpu_count(), "time": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+    try:
+        env["server_bin_mtime"] = time.strftime(
+            "%Y-%m-%dT%H:%M:%S%z", time.localtime(os.path.getmtime(args.server_bin)))
+    except OSError:
+        pass
+    try:
+        import subprocess
+        env["git_head"] = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"],
+                                         capture_output=True, text=True).stdout.strip()
+        env["git_dirty"] = bool(subprocess.run(
+            ["git", "-C", REPO, "status", "--porcelain", "--untracked-files=no"],
+            capture_output=True, text=True).stdout.strip())
+    except OSError:
+        pass
+    return env
+
+
 def main(argv=None):
     args = parse_args(argv)
+    if args.reply_timeout is None:
+        args.reply_timeout = 15.0 if args.quick else 30.0
     live.self_test()
     variants = build_variants(args)
     patterns = ",".join(QUICK_CASES) if args.quick and not args.cases else args.cases
@@ -961,7 +1015,8 @@ def main(argv=None):
     finally:
         if args.json:
             with open(args.json, "w") as f:
-                json.dump({"args": vars(args), "results": results}, f, indent=1)
+                json.dump({"environment": environment(args), "args": vars(args),
+                           "results": results}, f, indent=1)
         if not args.log_dir:
             shutil.rmtree(logdir, ignore_errors=True)
     print()
@@ -976,4 +1031,11 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except KeyboardInterrupt:
+        sys.exit(130)
+    except Exception:  # a harness error, not a finding: exit status 2
+        import traceback
+        traceback.print_exc()
+        sys.exit(2)

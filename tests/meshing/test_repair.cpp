@@ -293,6 +293,17 @@ TEST(SurfaceFile, PerturbAndExudeRemoveSlivers) {
         to_string(with.quality).c_str(), with.mesh_ms, without.mesh_ms);
     EXPECT_GT(with.quality.min_dihedral_deg, without.quality.min_dihedral_deg);
     EXPECT_FALSE(with.quality.has_slivers());
+    EXPECT_TRUE(without.quality.has_slivers()); // measured: 7 tets under 5 deg
+
+    // A sliver bound makes perturbation work until every tet is above it (measured 15.3 deg).
+    o.meshing.perturb = true;
+    o.meshing.exude = true;
+    o.meshing.sliver_bound = 15;
+    const SurfaceFileMesh bounded = mesh_surface_file(kMeshes + "liver_blob.off", o);
+    std::printf("[ quality  ] sliver bound 15 deg: %s\n", to_string(bounded.quality).c_str());
+    EXPECT_GE(bounded.quality.min_dihedral_deg, 15);
+    o.meshing.sliver_bound = 60;
+    EXPECT_THROW(mesh_surface_file(kMeshes + "liver_blob.off", o), InputError);
 }
 
 TEST(SurfaceFile, ScaleAndOptionErrors) {

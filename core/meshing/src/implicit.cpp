@@ -2,6 +2,7 @@
 #include "polycut/meshing/implicit.hpp"
 
 #include "mesh3_common.hpp"
+#include "polycut/meshing/quality.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Labeled_mesh_domain_3.h>
@@ -20,7 +21,8 @@ using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation>;
 
 } // namespace
 
-mesh::Mesh mesh_implicit(const ImplicitShape& shape, const MeshingOptions& options) {
+mesh::Mesh mesh_implicit(
+    const ImplicitShape& shape, const MeshingOptions& options, const ProgressSink& progress) {
     check_shape(shape);
     check_options(options);
     // Surface points are found by bisection on segments until they are shorter than
@@ -34,8 +36,11 @@ mesh::Mesh mesh_implicit(const ImplicitShape& shape, const MeshingOptions& optio
     namespace p = CGAL::parameters;
     const Domain domain = Domain::create_implicit_mesh_domain(
         value, Kernel::Sphere_3(c, R * R), p::relative_error_bound = 1e-6, p::p_rng = &rng);
-    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options);
-    return detail::to_mesh(c3t3, "implicit shape");
+    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options, progress);
+    mesh::Mesh m = detail::to_mesh(c3t3, "implicit shape");
+    if (progress)
+        progress("quality: " + to_string(tet_quality(m)));
+    return m;
 }
 
 } // namespace polycut::meshing

@@ -23,9 +23,6 @@
 
 namespace polycut::meshing::detail {
 
-/// Called once per phase with a line of progress ("Mesh_3 refine: 27745 tets, 1240 ms").
-using MeshPhaseSink = std::function<void(const std::string&)>;
-
 /// Milliseconds since `start`.
 inline double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -37,7 +34,7 @@ inline double ms_since(std::chrono::steady_clock::time_point start) {
 /// speed). Every random choice CGAL makes comes from `rng` (the domain's generator, passed by
 /// the caller) or from the default generator, reseeded here. Reports each phase to `sink`.
 template <class C3t3, class Domain>
-C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o, const MeshPhaseSink& sink = {}) {
+C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o, const ProgressSink& sink = {}) {
     using Criteria = CGAL::Mesh_criteria_3<typename C3t3::Triangulation>;
     namespace p = CGAL::parameters;
     CGAL::get_default_random() = CGAL::Random(o.seed);
@@ -70,12 +67,12 @@ C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o, const MeshPhaseSi
     }
     if (o.perturb) {
         start = std::chrono::steady_clock::now();
-        CGAL::perturb_mesh_3(c3t3, domain);
+        CGAL::perturb_mesh_3(c3t3, domain, p::sliver_bound = o.sliver_bound);
         report("perturb", c3t3, start);
     }
     if (o.exude) {
         start = std::chrono::steady_clock::now();
-        CGAL::exude_mesh_3(c3t3);
+        CGAL::exude_mesh_3(c3t3, p::sliver_bound = o.sliver_bound);
         report("exude", c3t3, start);
     }
     return c3t3;

@@ -1,9 +1,11 @@
-// Validation of the Mesh_3 options shared by the implicit and the surface meshers.
+// Validation of the Mesh_3 options shared by the implicit and the surface meshers, and the
+// default progress sink.
 #include "polycut/meshing/options.hpp"
 
 #include "polycut/common/error.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace polycut::meshing {
 
@@ -19,6 +21,12 @@ void check_options(const MeshingOptions& o) {
         throw InputError("options.cell_radius_edge_ratio", "radius-edge ratio must be >= 2");
     if (!std::isfinite(o.feature_angle))
         throw InputError("options.feature_angle", "feature angle must be finite");
+    if (!(o.sliver_bound >= 0 && o.sliver_bound < 60))
+        throw InputError("options.sliver_bound", "sliver bound must be in [0, 60) degrees");
+}
+
+void print_progress(const std::string& line) {
+    std::fprintf(stderr, "polycut meshing: %s\n", line.c_str());
 }
 
 } // namespace polycut::meshing

@@ -26,7 +26,7 @@ using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation, Domain::Corn
 } // namespace
 
 mesh::Mesh detail::mesh_prepared_surface(
-    const SurfaceMesh& s, const MeshingOptions& options, const PhaseSink& sink) {
+    const SurfaceMesh& s, const MeshingOptions& options, const ProgressSink& sink) {
     Polyhedron poly;
     std::vector<Polyhedron::Vertex_index> v;
     v.reserve(s.positions.size());

@@ -22,10 +22,6 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 
 } // namespace
 
-void print_progress(const std::string& line) {
-    std::fprintf(stderr, "polycut meshing: %s\n", line.c_str());
-}
-
 SurfaceFileMesh mesh_surface_file(const std::string& path, const SurfaceFileOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     check_options(options.meshing);

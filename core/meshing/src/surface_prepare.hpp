@@ -5,7 +5,6 @@
 
 #include "polycut/meshing/surface.hpp"
 
-#include <functional>
 #include <string>
 
 namespace polycut::meshing::detail {
@@ -25,12 +24,9 @@ std::string prepare_closed_surface(SurfaceMesh& surface);
 /// radius `alpha` [m]. Both must be > 0.
 SurfaceMesh alpha_wrap(const SurfaceMesh& surface, double alpha, double offset);
 
-/// Called once per Mesh_3 phase with a line of progress.
-using PhaseSink = std::function<void(const std::string&)>;
-
 /// CGAL Mesh_3 of the volume bounded by a surface that prepare_closed_surface() accepted
 /// (surface.cpp). Options must be checked. Reports each phase to `sink` (may be empty).
 mesh::Mesh mesh_prepared_surface(
-    const SurfaceMesh& surface, const MeshingOptions& options, const PhaseSink& sink = {});
+    const SurfaceMesh& surface, const MeshingOptions& options, const ProgressSink& sink = {});
 
 } // namespace polycut::meshing::detail

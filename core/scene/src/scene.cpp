@@ -137,6 +137,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
         g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
         g.optimize = parse_optimize(r, g.optimize);
+        g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
     } else if (type == "convex_hull") {
         parse_convex_hull(r, g);
     } else {
@@ -149,6 +150,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
             g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
             g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
             g.optimize = parse_optimize(r, g.optimize);
+            g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
             parse_surface_repair(r, g);
         }
     }

@@ -68,7 +68,10 @@ void check_shape(const ImplicitShape& shape);
 
 /// Tetrahedral mesh of the shape (CGAL Mesh_3, labeled implicit domain). Positions in metres;
 /// unreferenced vertices are dropped; tets are positively oriented. Deterministic for a given
-/// options.seed. Throws InputError for a bad shape or options, MeshError if CGAL produced no cell.
-mesh::Mesh mesh_implicit(const ImplicitShape& shape, const MeshingOptions& options);
+/// options.seed. Reports each Mesh_3 phase and the tets' quality to `progress` (e.g.
+/// print_progress; empty: silent). Throws InputError for a bad shape or options, MeshError if
+/// CGAL produced no cell.
+mesh::Mesh mesh_implicit(
+    const ImplicitShape& shape, const MeshingOptions& options, const ProgressSink& progress = {});
 
 } // namespace polycut::meshing

@@ -13,12 +13,6 @@
 
 namespace polycut::meshing {
 
-/// Receives one line per phase ("read liver.off: 639 vertices, 1254 triangles, 3 ms").
-using ProgressSink = std::function<void(const std::string& line)>;
-
-/// Writes "polycut meshing: <line>" to stderr.
-void print_progress(const std::string& line);
-
 /// Options of mesh_surface_file(). Lengths in metres (after `scale`).
 struct SurfaceFileOptions {
     double scale = 1; ///< file units to metres, applied to the positions on reading (> 0)

@@ -33,6 +33,7 @@ struct Geometry {
     /// Mesh_3 optimisers after refinement, any of "lloyd", "odt", "perturb", "exude" (run in
     /// that order); meshing::MeshingOptions
     std::vector<std::string> optimize { "perturb", "exude" };
+    double sliver_bound = 0; ///< perturb/exude stop when every dihedral angle exceeds it [deg]
     // SurfaceFile: treatment of a surface that is not a clean closed manifold (meshing::repair)
     std::string repair = "auto"; ///< "auto", "none", "pmp" or "wrap"
     std::string components = "union"; ///< "union", "largest" or "refuse"
