@@ -1035,6 +1035,8 @@ if __name__ == "__main__":
         sys.exit(main())
     except KeyboardInterrupt:
         sys.exit(130)
+    except BrokenPipeError:  # output piped into head
+        sys.exit(0)
     except Exception:  # a harness error, not a finding: exit status 2
         import traceback
         traceback.print_exc()
