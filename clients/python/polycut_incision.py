@@ -442,7 +442,8 @@ class Runner:
         args, v = self.args, self.variant
         t_start = time.perf_counter()
         res = {"scene": v.name.split("/")[0], "cutter": v.cutter, "variant": v.name,
-               "case": case_name, "ok": False, "failures": [], "errors": []}
+               "case": case_name, "ok": False, "failures": [], "errors": [],
+               "loadavg_1min": [round(os.getloadavg()[0], 2)]}
         tag = f"{v.name.replace('/', '-')}-{case_name}"
         stderr_path = os.path.join(self.logdir, tag + ".stderr")
         scene_path = v.path
@@ -456,6 +457,7 @@ class Runner:
         ctx = zmq.Context()
         reader = rpc = rest = frame = case = surf = final = stats = None
         self.strokes, self.samples, self.world_at_start = [], [], None
+        self.end_reply = None
         self.window = [None, None]
         phase = "start"
         self.deadline = time.monotonic() + args.case_timeout
@@ -486,7 +488,7 @@ class Runner:
                 phase = "case"
                 self.drive(case, rpc, reader, res)
                 phase = "get_surface after end_stroke"
-                surf = rpc.get_surface(timeout=args.reply_timeout)
+                surf = self.surface_after_cut(rpc, reader, srv, res)
                 self.window[1] = time.perf_counter()
                 phase = "watching the stream after the cut"
                 self.sleep(args.post)
@@ -530,9 +532,31 @@ class Runner:
             self.score(res, case, frame, reader, rest, surf, final, stats)
         self.judge(res, case)
         res["wall_s"] = round(time.perf_counter() - t_start, 2)
+        # Other processes on the machine skew the tick figures (not the cut): start and end.
+        res["loadavg_1min"].append(round(os.getloadavg()[0], 2))
         return res
 
     # -- driving
+
+    def surface_after_cut(self, rpc, reader, srv, res):
+        """get_surface once the stream has reached the tick of the last end_stroke reply (the
+        first tick whose frame reflects it); before that a snapshot may predate the cut."""
+        r = self.end_reply
+        if r is None:
+            return rpc.get_surface(timeout=self.args.reply_timeout)
+        if not reader.wait_tick(r["tick"], self.args.reply_timeout, srv):
+            raise live.RpcTimeout(f"no stream frame of tick {r['tick']} (end_stroke's) within "
+                                  f"{self.args.reply_timeout:.0f} s")
+        for _ in range(50):
+            surf = rpc.get_surface(timeout=self.args.reply_timeout)
+            if surf["tick"] >= r["tick"]:
+                break
+            time.sleep(0.02)
+        if surf["topology_version"] < r["topology_version"]:
+            res["errors"].append(f"get_surface at tick {surf['tick']} has topology_version "
+                                 f"{surf['topology_version']} < end_stroke's "
+                                 f"{r['topology_version']}")
+        return surf
 
     def sleep(self, seconds):
         end = time.perf_counter() + seconds
@@ -594,6 +618,7 @@ class Runner:
                     try:
                         r = rpc.call("end_stroke", {"stroke": stroke_id},
                                      timeout=args.reply_timeout)
+                        self.end_reply = r
                         if count == 1 or stroke_id <= 3:
                             res["requests"].append({"end_stroke": r})
                     except live.RpcError as e:

@@ -348,6 +348,19 @@ class StreamReader(threading.Thread):
                 return len(self.frames), f["tick"], f["tv"], time.perf_counter()
             return 0, None, None, time.perf_counter()
 
+    def wait_tick(self, tick, timeout, server=None):
+        """Waits for a surface frame with tick >= `tick` (a reply's `tick` is the first tick
+        whose frame reflects the command). Returns False on timeout."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self.lock:
+                if self.frames and self.frames[-1]["tick"] >= tick:
+                    return True
+            if server is not None and server.exited():
+                raise ServerDied(f"polycut-server exited with status {server.returncode()}")
+            time.sleep(0.005)
+        return False
+
     def latest_surface(self):
         with self.lock:
             return self.latest
