@@ -88,11 +88,19 @@ int main(int argc, char** argv) {
         for (long s = 0; s < steps || next_sweep < sweeps.size(); ++s) {
             while (next_sweep < sweeps.size()
                 && (sweeps[next_sweep].tick <= sim.tick() || s >= steps)) {
-                const auto cut = sim.cut(sweeps[next_sweep].triangles);
                 rec.has_cuts = true;
                 rec.cut_triangles += long(sweeps[next_sweep].triangles.size());
-                rec.cut_ms.push_back(cut.cut_ms);
-                rec.pieces_fixed += cut.pieces_fixed;
+                try {
+                    const auto cut = sim.cut(sweeps[next_sweep].triangles);
+                    rec.cut_ms.push_back(cut.cut_ms);
+                    rec.pieces_fixed += cut.pieces_fixed;
+                } catch (const polycut::InputError&) {
+                    throw; // a bad sweep in the scene file
+                } catch (const polycut::Error& e) {
+                    // The cut was undone; the run goes on as the server would, and says so.
+                    ++rec.failed_cuts;
+                    rec.warnings.push_back(e.what());
+                }
                 ++next_sweep;
             }
             if (s >= steps)
@@ -105,6 +113,7 @@ int main(int argc, char** argv) {
             rec.iterations.push_back(double(r.solver_iterations));
             rec.max_residual = std::max(rec.max_residual, r.residual);
             rec.rolled_back += r.rolled_back ? 1 : 0;
+            rec.undone_cuts += r.cut_undone ? 1 : 0;
             rec.warnings.insert(rec.warnings.end(), r.warnings.begin(), r.warnings.end());
             if (sim.tick() % sc.output.vtu_every == 0 || s + 1 == steps)
                 write_frame(sim.tick());

@@ -26,6 +26,8 @@ struct RunRecord {
     bool has_cuts = false;
     long cut_triangles = 0;
     long pieces_fixed = 0; ///< static scenes: free pieces fixed at one face after cuts
+    long failed_cuts = 0; ///< cuts the simulation could not apply (undone, reported)
+    long undone_cuts = 0; ///< steps that undid the cuts before them (the model was unsound)
     std::vector<std::pair<std::string, Vec3>> probes;
 };
 

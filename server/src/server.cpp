@@ -96,6 +96,29 @@ void Server::Impl::run() {
     ticks_since_anchor = 0;
     next_deadline = anchor;
     while (!stop.load(std::memory_order_relaxed)) {
+        // The loop never dies (DESIGN.md sec. 8): whatever a tick or a command throws is logged
+        // and the service goes on with the state the failing call left (each call restores its
+        // own state on failure).
+        try {
+            loop_once();
+        } catch (const zmq::error_t& e) {
+            if (e.num() == ETERM) {
+                break; // the sockets are gone: nothing left to serve
+            }
+            ++errors;
+            std::fprintf(stderr, "[error] polycut-server: %s (the server goes on)\n", e.what());
+        } catch (const std::exception& e) {
+            ++errors;
+            std::fprintf(stderr, "[error] polycut-server: %s (the server goes on)\n", e.what());
+        }
+    }
+    if (command_log) {
+        command_log->end(session.tick());
+    }
+}
+
+void Server::Impl::loop_once() {
+    {
         const auto now = Clock::now();
         const bool stepping = !pending_steps.empty();
         if (running && now >= next_deadline) {
@@ -133,9 +156,6 @@ void Server::Impl::run() {
         }
         housekeeping();
     }
-    if (command_log) {
-        command_log->end(session.tick());
-    }
 }
 
 void Server::Impl::run_tick() {
@@ -144,6 +164,7 @@ void Server::Impl::run_tick() {
     const sim::StepReport report = session.step();
     const double step_cpu_ms = thread_cpu_ms() - cpu0;
     publish_surface(report, false);
+    publish_sweep_rejections();
     const double tick_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count()
         + command_ms_since_tick;
     command_ms_since_tick = 0.0;

@@ -74,6 +74,7 @@ ReplaySummary replay_command_log(const std::string& path, Session& session,
         }
         while (session.tick() < tick) {
             const sim::StepReport report = session.step();
+            summary.sweeps_rejected += session.take_rejections().size();
             if (on_tick) {
                 on_tick(session, report);
             }
@@ -134,7 +135,9 @@ ReplaySummary replay_command_log(const std::string& path, Session& session,
             throw FileError(path, line_no, "invalid request: " + request.error().error.reason);
         }
         const std::string client = hex_to_bytes(record.value("client", std::string("-")));
-        const ApplyOutcome outcome = session.apply(request->params, client, 0.0);
+        const ApplyOutcome outcome
+            = session.apply(request->params, client, 0.0, request->id.has_value());
+        summary.sweeps_rejected += session.take_rejections().size();
         ++summary.commands;
         summary.rejected += outcome.ok() ? 0 : 1;
     }

@@ -45,6 +45,8 @@ struct ReplaySummary {
     std::int64_t tick = 0; ///< ticks completed at the end
     std::size_t commands = 0; ///< commands applied
     std::size_t rejected = 0; ///< commands the session answered with an error (should be 0)
+    /// scalpel strokes whose sweep was rejected at a tick (as live: same cuts fail the same way)
+    std::size_t sweeps_rejected = 0;
     std::uint64_t state_hash = 0; ///< Session::state_hash at the end
     std::uint64_t topology_version = 0;
     std::string scene; ///< scene name at the end

@@ -202,7 +202,9 @@ void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::R
     }
     if (Session::is_mutation(method)) {
         const std::int64_t tick_before = session.tick();
-        ApplyOutcome outcome = session.apply(request.params, identity, now_s());
+        ApplyOutcome outcome
+            = session.apply(request.params, identity, now_s(), request.id.has_value());
+        publish_sweep_rejections();
         if (!outcome) {
             fail(outcome.error());
             return;
@@ -323,6 +325,17 @@ void Server::Impl::reply_error(const protocol::Message& envelope, const protocol
     const protocol::RpcError& error) {
     ++errors;
     reply(envelope, protocol::encode_error(id, error));
+}
+
+void Server::Impl::publish_sweep_rejections() {
+    for (const SweepRejection& r : session.take_rejections()) {
+        ++errors;
+        nlohmann::json detail = { { "method", "scalpel" },
+            { "code", static_cast<int>(r.error.code) }, { "pointer", r.error.pointer },
+            { "reason", r.error.reason }, { "stroke", r.stroke }, { "triangles", r.triangles } };
+        publish_event(
+            "rejected", detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), 0);
+    }
 }
 
 void Server::Impl::reject_notification(std::string_view method, const protocol::RpcError& error) {

@@ -39,6 +39,8 @@ struct Server::Impl {
 
     // --- server.cpp: schedule and loop
     void run();
+    /// One pass of the loop: a tick when due, then the control socket for the time left.
+    void loop_once();
     void run_tick();
     double now_s() const;
     double period_ms() const { return 1000.0 / rate_hz; }
@@ -57,6 +59,8 @@ struct Server::Impl {
     void reply_error(const protocol::Message& envelope, const protocol::RequestId& id,
         const protocol::RpcError& error);
     void reject_notification(std::string_view method, const protocol::RpcError& error);
+    /// Publishes a `rejected` event per scalpel stroke whose sweep the session could not cut.
+    void publish_sweep_rejections();
     ClientInfo& touch_client(const std::string& identity);
     protocol::HelloResult hello() const;
     protocol::RunState run_state() const;

@@ -117,7 +117,8 @@ std::uint64_t Session::topology_version() const {
     return m_sim ? m_sim->topology_version() : 0;
 }
 
-ApplyOutcome Session::apply(const protocol::Params& params, std::string_view client, double now_s) {
+ApplyOutcome Session::apply(
+    const protocol::Params& params, std::string_view client, double now_s, bool reply_expected) {
     using protocol::Method;
     const Method method = protocol::method_of(params);
     if (method != Method::LoadScene && !m_sim) {
@@ -150,7 +151,7 @@ ApplyOutcome Session::apply(const protocol::Params& params, std::string_view cli
                 } else if constexpr (std::is_same_v<T, protocol::CutParams>) {
                     return cut(p);
                 } else if constexpr (std::is_same_v<T, protocol::ScalpelParams>) {
-                    return scalpel(p, client, now_s);
+                    return scalpel(p, client, now_s, reply_expected);
                 } else if constexpr (std::is_same_v<T, protocol::EndStrokeParams>) {
                     return end_stroke(p, client);
                 } else {
@@ -169,47 +170,80 @@ sim::StepReport Session::step() {
     if (!m_sim) {
         return {};
     }
-    const double cut_before = m_cut_ms;
-    const std::string rejected = flush_sweeps();
-    const double cut_ms = m_cut_ms - cut_before;
-    sim::StepReport report = m_sim->step();
-    report.cut_ms = cut_ms;
-    if (!rejected.empty()) {
-        report.warnings.push_back("scalpel sweep rejected: " + rejected);
+    sim::StepReport report;
+    try {
+        const double cut_before = m_cut_ms;
+        flush_sweeps();
+        const double cut_ms = m_cut_ms - cut_before;
+        report = m_sim->step();
+        report.cut_ms = cut_ms;
+        if (report.cut_undone) {
+            // The cuts of this tick made the model unsound and are gone: their strokes hear it.
+            for (const StrokeCut& cut : m_cut_since_step) {
+                m_rejections.push_back({ cut.client, cut.stroke, cut.triangles,
+                    make_error(ErrorCode::CutRejected, "/params",
+                        "the cut was undone: the step after it failed ("
+                            + (report.warnings.empty() ? std::string("unstable")
+                                                       : report.warnings.front())
+                            + ")") });
+            }
+            m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+        }
+        if (report.topology_changed) {
+            m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+        }
+        prune_expired_forces();
+    } catch (const std::exception& e) {
+        // Session::step never throws (the server loop must go on); a failure here is a bug.
+        report.warnings.push_back(std::string("tick failed: ") + e.what());
+        report.rolled_back = true;
     }
-    if (report.topology_changed) {
-        m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
-    }
-    prune_expired_forces();
+    m_cut_since_step.clear();
     return report;
 }
 
-std::string Session::flush_sweeps() {
+void Session::flush_sweeps() {
     if (m_pending_sweep.empty() || !m_sim) {
         m_pending_sweep.clear();
-        return {};
+        return;
     }
-    std::vector<std::array<Vec3, 3>> sweep;
-    sweep.swap(m_pending_sweep);
-    auto summary = run_cut(sweep, "/params");
-    if (summary) {
-        return {};
-    }
-    // The sim's degeneracy test is relative to the tissue size; drop such triangles and retry.
-    if (summary.error().reason.find("degenerate") != std::string::npos && sweep.size() > 1) {
-        std::vector<std::array<Vec3, 3>> kept;
-        for (const auto& tri : sweep) {
-            try {
-                m_sim->cut({ tri });
-                kept.push_back(tri);
-            } catch (const InputError&) {
-                // skipped: degenerate at the tissue's scale
+    std::vector<PendingSweep> pending;
+    pending.swap(m_pending_sweep);
+    // One cut per stroke, strokes in order of their first pending triangle: a stroke that cannot
+    // be cut loses only its own triangles.
+    std::vector<bool> done(pending.size(), false);
+    for (std::size_t first = 0; first < pending.size(); ++first) {
+        if (done[first]) {
+            continue;
+        }
+        std::vector<std::array<Vec3, 3>> sweep;
+        for (std::size_t k = first; k < pending.size(); ++k) {
+            if (!done[k] && pending[k].client == pending[first].client
+                && pending[k].stroke == pending[first].stroke) {
+                sweep.push_back(pending[k].triangle);
+                done[k] = true;
             }
         }
-        m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
-        return kept.empty() ? summary.error().reason : std::string();
+        const PendingSweep& head = pending[first];
+        const auto count = static_cast<std::uint32_t>(sweep.size());
+        auto summary = run_cut(sweep, "/params");
+        if (summary) {
+            m_cut_since_step.push_back({ head.client, head.stroke, count });
+        } else {
+            m_rejections.push_back({ head.client, head.stroke, count, summary.error() });
+        }
     }
-    return summary.error().reason;
+}
+
+std::optional<RpcError> Session::take_rejection(std::string_view client, std::uint64_t stroke) {
+    for (auto it = m_rejections.begin(); it != m_rejections.end(); ++it) {
+        if (it->client == client && it->stroke == stroke) {
+            RpcError error = it->error;
+            m_rejections.erase(it);
+            return error;
+        }
+    }
+    return std::nullopt;
 }
 
 void Session::prune_expired_forces() {
@@ -372,6 +406,9 @@ protocol::Expected<sim::CutSummary, RpcError> Session::run_cut(
         return summary;
     } catch (const InputError& e) {
         return make_error(ErrorCode::CutRejected, pointer_under(pointer, e.where()), e.problem());
+    } catch (const std::exception& e) {
+        // The sim undid the cut: the mesh and state are as before, the loop goes on.
+        return make_error(ErrorCode::CutRejected, std::string(pointer), e.what());
     }
 }
 
@@ -396,7 +433,7 @@ ApplyOutcome Session::cut(const protocol::CutParams& p) {
 }
 
 ApplyOutcome Session::scalpel(
-    const protocol::ScalpelParams& p, std::string_view client, double now_s) {
+    const protocol::ScalpelParams& p, std::string_view client, double now_s, bool reply_expected) {
     Stroke* stroke = m_strokes.find(client, p.stroke);
     if (stroke == nullptr) {
         Stroke& opened = m_strokes.open(client, p.stroke, now_s);
@@ -412,14 +449,25 @@ ApplyOutcome Session::scalpel(
     std::uint32_t added = 0;
     for (const auto& tri : quad) {
         if (!protocol::triangle_defect(tri)) {
-            m_pending_sweep.push_back({ to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) });
+            m_pending_sweep.push_back({ std::string(client), p.stroke,
+                { to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) } });
             ++added;
         }
     }
+    const Stroke previous = *stroke;
     stroke->a = p.a;
     stroke->b = p.b;
     stroke->triangles += added;
     stroke->last_used_s = now_s;
+    if (reply_expected && added > 0) {
+        // A request wants the outcome: cut now. On failure the sample is taken back (the
+        // stroke continues from the previous one), so the state is as before the request.
+        flush_sweeps();
+        if (auto own = take_rejection(client, p.stroke)) {
+            *stroke = previous;
+            return *own;
+        }
+    }
     return done(protocol::ScalpelResult { effect_tick(), added });
 }
 
@@ -433,6 +481,9 @@ ApplyOutcome Session::end_stroke(const protocol::EndStrokeParams& p, std::string
     m_strokes.close(client, p.stroke);
     // The stroke's last sweep is applied now, so the reply's topology_version includes it.
     flush_sweeps();
+    if (auto own = take_rejection(client, p.stroke)) {
+        return *own;
+    }
     return done(protocol::CutResult { effect_tick(), m_sim->topology_version(), total });
 }
 
@@ -463,8 +514,10 @@ std::uint64_t Session::state_hash() const {
         mix(g.target.data(), sizeof g.target);
         mix(g.spec.data(), sizeof g.spec);
     }
-    for (const auto& tri : m_pending_sweep) {
-        for (const Vec3& p : tri) {
+    for (const PendingSweep& pending : m_pending_sweep) {
+        mix(pending.client.data(), pending.client.size());
+        mix_value(pending.stroke);
+        for (const Vec3& p : pending.triangle) {
             mix(p.data(), 3 * sizeof(double));
         }
     }

@@ -17,6 +17,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace polycut::server {
 
@@ -38,6 +40,15 @@ struct Applied {
 /// Outcome of Session::apply.
 using ApplyOutcome = protocol::Expected<Applied, protocol::RpcError>;
 
+/// Scalpel sweep triangles of one stroke that could not be cut (the cut was undone, nothing
+/// changed): the server publishes each as a `rejected` event.
+struct SweepRejection {
+    std::string client; ///< routing identity of the stroke's client
+    std::uint64_t stroke = 0; ///< the client's stroke id
+    std::uint32_t triangles = 0; ///< sweep triangles dropped
+    protocol::RpcError error; ///< -32002 with the reason
+};
+
 /// The simulation with the protocol's bookkeeping. Not thread-safe: the server loop owns it.
 class Session {
 public:
@@ -58,15 +69,22 @@ public:
     /// Applies a mutation at the current tick boundary on behalf of `client` (the routing
     /// identity; scalpel strokes are per client). Never throws; on error nothing changed.
     /// `now_s` is a monotonic wall time [s] used only to expire idle strokes.
-    ApplyOutcome apply(const protocol::Params& params, std::string_view client, double now_s);
+    /// A `scalpel` sent as a request (`reply_expected`) is cut at once, so its reply can carry
+    /// the outcome; as a notification it waits for the next tick.
+    ApplyOutcome apply(const protocol::Params& params, std::string_view client, double now_s,
+        bool reply_expected = false);
 
     /// Advances one tick (no-op report when no scene is loaded): first applies the scalpel
-    /// sweep triangles queued since the last tick as one cut, then steps. Never throws; a
-    /// rejected sweep is reported as a warning of the step.
+    /// sweep triangles queued since the last tick (one cut per stroke), then steps. Never
+    /// throws; a stroke whose sweep could not be cut, or whose cut the step undid, is listed in
+    /// take_rejections().
     sim::StepReport step();
-    /// Applies the queued scalpel sweep triangles now (end_stroke, step). Never throws; returns
-    /// the sim's reason when it rejected them (nothing changed then), empty on success.
-    std::string flush_sweeps();
+    /// Applies the queued scalpel sweep triangles now (end_stroke, step), one cut per stroke in
+    /// arrival order. Never throws; strokes that could not be cut (nothing changed for them) go
+    /// to take_rejections().
+    void flush_sweeps();
+    /// Strokes whose sweeps were rejected since the last call (clears the list).
+    std::vector<SweepRejection> take_rejections() { return std::exchange(m_rejections, {}); }
     /// Wall time of the cuts applied since the last call [ms] (resets it).
     double take_cut_ms() {
         const double ms = m_cut_ms;
@@ -113,13 +131,17 @@ private:
     ApplyOutcome move_grab(const protocol::MoveGrabParams& p);
     ApplyOutcome release(const protocol::ReleaseParams& p);
     ApplyOutcome cut(const protocol::CutParams& p);
-    ApplyOutcome scalpel(const protocol::ScalpelParams& p, std::string_view client, double now_s);
+    ApplyOutcome scalpel(const protocol::ScalpelParams& p, std::string_view client, double now_s,
+        bool reply_expected);
     ApplyOutcome end_stroke(const protocol::EndStrokeParams& p, std::string_view client);
-    /// Runs the simulation's cut; InputError becomes -32002 pointing into `pointer`.
+    /// Runs the simulation's cut; never throws. InputError becomes -32002 pointing into
+    /// `pointer`; a cut that failed (and was undone) -32002 pointing at `pointer`.
     protocol::Expected<sim::CutSummary, protocol::RpcError> run_cut(
         const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer);
     void install(std::unique_ptr<sim::Simulation> sim, std::string name);
     void prune_expired_forces();
+    /// Removes and returns the pending rejection of `stroke` (the caller answers it itself).
+    std::optional<protocol::RpcError> take_rejection(std::string_view client, std::uint64_t stroke);
 
     struct ForceEntry {
         long sim_id = 0;
@@ -143,7 +165,20 @@ private:
     /// Scalpel sweep triangles received since the last tick, applied together at its start:
     /// one cut per tick however fast the blade samples arrive, so a slow cut cannot queue up
     /// one cut per sample behind it.
-    std::vector<std::array<Vec3, 3>> m_pending_sweep;
+    struct PendingSweep {
+        std::string client; ///< routing identity
+        std::uint64_t stroke = 0;
+        std::array<Vec3, 3> triangle; ///< world space [m]
+    };
+    std::vector<PendingSweep> m_pending_sweep;
+    /// Strokes cut since the last step (their cuts go when that step undoes them).
+    struct StrokeCut {
+        std::string client;
+        std::uint64_t stroke = 0;
+        std::uint32_t triangles = 0;
+    };
+    std::vector<StrokeCut> m_cut_since_step;
+    std::vector<SweepRejection> m_rejections;
     double m_cut_ms = 0.0; ///< cut time since take_cut_ms [ms]
 };
 

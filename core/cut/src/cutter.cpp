@@ -3,6 +3,7 @@
 #include "plane_split.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "polycut/cut/fault_injection.hpp"
 #include "sweep.hpp"
 
 #include <algorithm>
@@ -80,6 +81,7 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles) {
             ++report.triangles_missed;
         detail::separate(ed, crack);
     }
+    detail::fail_if_injected();
     detail::fix_pinched_edges(ed);
     if (m_impl->opt.merge_cut_faces)
         report.cut_faces_merged = detail::merge_cut_faces(ed, ed.changed_cells());

@@ -2,6 +2,7 @@
 // remove degeneracies) and the per-call bookkeeping that becomes the CutReport.
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "polycut/cut/fault_injection.hpp"
 #include "snap_state.hpp"
 
 #include <algorithm>
@@ -358,6 +359,7 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         if (s.opt.remove_degeneracies)
             snap::remove_degeneracies(s);
     }
+    detail::fail_if_injected();
     s.end();
     report.elapsed_ms = watch.ms();
     return report;

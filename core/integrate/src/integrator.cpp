@@ -430,6 +430,15 @@ StepReport Integrator::step(State& s) {
             }
         }
         if (ok) {
+            const double stretch = max_cell_stretch(s.x);
+            if (!(stretch <= m_options.stretch_limit)) {
+                ok = false;
+                report.warnings.push_back("exploded: a cell stretched " + std::to_string(stretch)
+                    + " times its rest size (limit " + std::to_string(m_options.stretch_limit)
+                    + ")");
+            }
+        }
+        if (ok) {
             if (m_options.kind != IntegratorKind::Static)
                 s.time += m_options.dt;
         } else {
@@ -451,6 +460,31 @@ StepReport Integrator::step(State& s) {
     }
     report.step_ms = sw.ms();
     return report;
+}
+
+double Integrator::max_cell_stretch(const MatX3& x) const {
+    // Per cell, the largest distance from its first node to another node, deformed over rest:
+    // 1 under rigid motion, growing without bound in an exploding step. Measured against the
+    // cell's extent rather than per node pair, so nodes a cut left close together do not make
+    // tiny, harmless motions look like stretch. O(cell nodes), no allocation.
+    const mesh::Mesh& m = m_model->mesh();
+    double worst = 1.0;
+    for (const mesh::Cell& c : m.cells) {
+        if (c.nodes.size() < 2)
+            continue;
+        const Index a = c.nodes.front();
+        const Vec3 Xa = m.rest[std::size_t(a)];
+        const Vec3 xa = x.row(a).transpose();
+        double rest = 0, now = 0;
+        for (std::size_t k = 1; k < c.nodes.size(); ++k) {
+            const Index b = c.nodes[k];
+            rest = std::max(rest, (m.rest[std::size_t(b)] - Xa).squaredNorm());
+            now = std::max(now, (x.row(b).transpose() - xa).squaredNorm());
+        }
+        if (rest > 0 && now > worst * worst * rest)
+            worst = std::sqrt(now / rest);
+    }
+    return worst;
 }
 
 double Integrator::energy(const State& s) const {

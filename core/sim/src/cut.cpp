@@ -3,6 +3,7 @@
 #include "impl.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "polycut/cut/completeness.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
@@ -42,10 +43,6 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                 throw InputError(
                     where + "/" + std::to_string(k), "is absurdly far from the tissue");
         }
-        const double area
-            = 0.5 * (world[t][1] - world[t][0]).cross(world[t][2] - world[t][0]).norm();
-        if (!(area > 1e-10 * L * L))
-            throw InputError(where, "is degenerate (zero area)");
     }
     const bool snap = s.scene.cutting.method == "snap";
     if (snap && !s.snap_cutter) {
@@ -73,6 +70,9 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // successive ticks differ by a small fraction of a cell). A curved stroke leaves the plane
     // as soon as it bends by more than that.
     constexpr double kStrokePlane = 0.02;
+    // Below this area (relative to L^2) or altitude (relative to L) a triangle cuts nothing; the
+    // cutter rejects such rest triangles (CutOptions::min_area), so they are dropped here first.
+    constexpr double kMinSweepArea = 2 * cut::CutOptions {}.min_area;
     const double cell_size
         = std::cbrt(s.mesh.rest_volume() / double(std::max<Index>(1, s.mesh.num_cells())));
     const double same = 1e-9 * L;
@@ -87,6 +87,13 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     bool located = false; // the grid is refitted once per call, when first needed
     std::vector<cut::Triangle> rest;
     for (const auto& tri : world) {
+        // A sliver of a sweep (the blade barely moved between two samples) cuts nothing at the
+        // tissue's scale: skipped, not an error, so a slow stroke is never rejected for it.
+        const double area = 0.5 * (tri[1] - tri[0]).cross(tri[2] - tri[0]).norm();
+        if (!(area > kMinSweepArea * L * L)) {
+            ++summary.triangles_skipped;
+            continue;
+        }
         cut::Triangle r;
         std::array<bool, 3> known {};
         const Impl::StrokeCorner* previous = nullptr;
@@ -128,8 +135,13 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                 }
         }
         const Vec3 normal = (r[1] - r[0]).cross(r[2] - r[0]);
-        if (!(normal.norm() > 0))
-            continue; // collapsed in rest space: nothing to cut
+        const double longest
+            = std::max({ (r[1] - r[0]).norm(), (r[2] - r[1]).norm(), (r[0] - r[2]).norm() });
+        if (!(0.5 * normal.norm() > kMinSweepArea * L * L)
+            || !(normal.norm() / longest > kMinSweepArea * L)) {
+            ++summary.triangles_skipped; // collapsed in rest space: nothing to cut
+            continue;
+        }
         const Vec3 n = normal.normalized();
         for (std::size_t k = 0; k < 3; ++k)
             if (!known[k])
@@ -149,15 +161,17 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // A cut is all or nothing: if the cutter or the model update fails on some configuration
     // (a cell the basis cannot handle), the mesh and the state go back to what they were and the
     // error is reported; the simulation keeps running on the uncut mesh.
-    const Impl::Snapshot before = s.snapshot();
+    Impl::Snapshot before = s.snapshot();
     try {
         const cut::CutReport report = snap ? s.snap_cutter->cut(rest) : s.cutter->cut(rest);
         summary.triangles_applied = int(report.triangles - report.triangles_missed);
         summary.cells_split = int(report.new_cells.size());
         summary.nodes_added = int(report.nodes_after - report.nodes_before);
         summary.topology_changed = report.topology_changed;
+        summary.swept_area = cut::area_inside(s.initial_mesh, rest);
         if (report.topology_changed) {
             s.resize_state_after_cut(report);
+            s.check_cut_cells(report.changed_cells);
             if (is_static())
                 summary.pieces_fixed = s.fix_free_pieces();
         }
@@ -166,9 +180,28 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         throw Error(
             "cut", std::string("failed and was undone, the mesh is unchanged: ") + e.what());
     }
+    // Until the next step shows the cut model is sound, the state before the first cut of this
+    // tick stays at hand (Simulation::step undoes the cut when that step fails).
+    if (summary.topology_changed && !s.cut_undo)
+        s.cut_undo = std::make_unique<Impl::Snapshot>(std::move(before));
+    s.swept_area += summary.swept_area;
     summary.cells_after = s.mesh.num_cells();
     summary.cut_ms = watch.ms();
     return summary;
+}
+
+void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
+    // Mechanical sanity of what the cut made (issue 12 item 3): every changed cell encloses a
+    // positive rest volume (the model update has already checked that each has an affine fit).
+    for (Index c : cells) {
+        if (c < 0 || c >= mesh.num_cells())
+            continue;
+        const double v = mesh.cell_volume(c);
+        if (!(v > 0) || !std::isfinite(v))
+            throw Error("cut",
+                "cell " + std::to_string(c) + " has rest volume " + std::to_string(v)
+                    + " m^3 after the cut");
+    }
 }
 
 void Simulation::end_stroke() {
@@ -253,16 +286,18 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
 }
 
 Simulation::Impl::Snapshot Simulation::Impl::snapshot() const {
-    return { mesh, state, node_fixed_mask, scene_forces, forces, grabs };
+    return { mesh, state, node_fixed_mask, scene_forces, forces, grabs, swept_area, topology,
+        topology_version };
 }
 
-void Simulation::Impl::restore(const Snapshot& snap) {
+void Simulation::Impl::restore(const Snapshot& snap, bool published) {
     mesh = snap.mesh;
     state = snap.state;
     node_fixed_mask = snap.node_fixed_mask;
     scene_forces = snap.scene_forces;
     forces = snap.forces;
     grabs = snap.grabs;
+    swept_area = snap.swept_area;
     // The cutters' adjacency and remembered sweeps refer to the failed edit: start them afresh.
     cutter.reset();
     snap_cutter.reset();
@@ -271,7 +306,8 @@ void Simulation::Impl::restore(const Snapshot& snap) {
     model->set_fixed_dofs(node_fixed_mask);
     static_solved = false;
     sync_positions();
-    refresh_topology();
+    topology = snap.topology;
+    topology_version = published ? topology_version + 1 : snap.topology_version;
 }
 
 int Simulation::Impl::fix_free_pieces() {

@@ -67,10 +67,19 @@ struct Simulation::Impl {
         VecX scene_forces;
         std::map<long, ActiveForce> forces;
         std::map<long, ActiveGrab> grabs;
+        double swept_area = 0;
+        surface::Topology topology;
+        std::uint64_t topology_version = 0;
     };
     Snapshot snapshot() const;
-    /// Puts the mesh and state back as they were and rebuilds the model and the surface.
-    void restore(const Snapshot& snap);
+    /// The state before the first cut since the last step: kept until that step has shown the
+    /// cut mesh is mechanically sound; a step that fails right after a cut undoes the cut too.
+    std::unique_ptr<Snapshot> cut_undo;
+    /// Puts the mesh and state back as they were and rebuilds the model. The surface topology
+    /// and its version come back too when nothing was published since the snapshot
+    /// (`published` false: a failed cut changes nothing a client can see); otherwise the old
+    /// topology gets a new version, so clients that saw the cut fetch it again.
+    void restore(const Snapshot& snap, bool published = false);
     /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
     /// returns how many pieces it fixed.
     int fix_free_pieces();
@@ -85,6 +94,7 @@ struct Simulation::Impl {
     bool static_solved = false; ///< static scenes: loads unchanged since the last solve
     surface::Topology topology;
     std::uint64_t topology_version = 1;
+    double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
     std::vector<Vec3> positions; ///< world positions (#N) [m], mirror of state.x
 
     void build();
@@ -95,6 +105,9 @@ struct Simulation::Impl {
     void assemble_external(double sim_time);
     void fix_dofs_from_scene();
     void resize_state_after_cut(const cut::CutReport& report);
+    /// Throws polycut::Error when a cell the cut changed has a non-positive or non-finite rest
+    /// volume.
+    void check_cut_cells(const std::vector<Index>& cells) const;
 };
 
 } // namespace polycut::sim

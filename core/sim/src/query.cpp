@@ -1,6 +1,7 @@
 // sim::Simulation queries: surface, probes, mesh figures, state hash, VTU output.
 #include "impl.hpp"
 #include "polycut/common/error.hpp"
+#include "polycut/cut/completeness.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
@@ -108,6 +109,8 @@ MeshStats Simulation::mesh_stats() const {
     st.rest_volume = m.rest_volume();
     st.components = m.count_components();
     st.surface_closed = mesh::check_boundary_surface(m).ok();
+    st.cut_area = cut::cut_face_area(m);
+    st.swept_area = m_impl->swept_area;
     return st;
 }
 

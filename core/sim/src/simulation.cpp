@@ -33,6 +33,8 @@ bool Simulation::is_static() const {
 }
 
 void Simulation::Impl::build() {
+    cut_undo.reset();
+    swept_area = 0;
     mesh = initial_mesh;
     node_fixed_mask = fixed_dofs_from_scene(scene, mesh);
     scene_forces = scene_loads(scene, mesh);
@@ -154,6 +156,19 @@ StepReport Simulation::step() {
         r.warnings.push_back(std::string("step failed: ") + e.what());
         r.rolled_back = true;
     }
+    if (r.rolled_back && s.cut_undo) {
+        // The first step on a freshly cut mesh failed (diverged, exploded, did not converge):
+        // the cut made the model unsound, so it goes too, and the tissue steps on uncut.
+        // An exploded state is never published.
+        try {
+            s.restore(*s.cut_undo, true);
+            r.cut_undone = true;
+            r.warnings.push_back("cut undone: the first step after it failed");
+        } catch (const std::exception& e) {
+            r.warnings.push_back(std::string("cut could not be undone: ") + e.what());
+        }
+    }
+    s.cut_undo.reset();
     ++s.tick;
     s.time += dt;
     r.tick = s.tick;

@@ -27,6 +27,11 @@ public:
     StepReport step(State& state);
     /// Total energy [J]: kinetic 1/2 v^T M v + elastic (force mode of the options).
     double energy(const State& state) const;
+    /// Largest stretch of any cell in positions `x` (#N x 3) [m]: max over cells of the largest
+    /// distance from the cell's first node to another node, deformed over the same at rest (1
+    /// at rest and under rigid motion). A step that leaves it above options.stretch_limit is rolled
+    /// back.
+    double max_cell_stretch(const MatX3& x) const;
 
     /// PcgLagged: the lagged factor's life after a sparsity pattern change (a cut). The first
     /// factor is computed on the first solve; after a pattern change, analysis and factorization

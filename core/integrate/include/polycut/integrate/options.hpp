@@ -68,6 +68,11 @@ struct IntegratorOptions {
     /// A step whose displacement exceeds this many times the mesh's bounding-box diagonal is
     /// treated as diverged and rolled back.
     double divergence_factor = 100.0;
+    /// A step after which some cell is stretched by more than this factor (the longest distance
+    /// from a cell's first node to its other nodes, deformed over the same at rest) is treated
+    /// as an explosion and rolled back. Tissue tears long before 10x; an unstable step (a bad cell
+    /// after a cut, a stiff explicit spring) reaches it within a few ticks (dimensionless).
+    double stretch_limit = 10.0;
     /// ImplicitEuler with PCG: start from the linear extrapolation 2 dv_{n-1} - dv_{n-2} of the
     /// last two velocity increments instead of dv_{n-1} (fewer iterations on smooth motion).
     bool extrapolate_warm_start = false;

@@ -27,6 +27,9 @@ struct StepReport {
     double residual = 0; ///< relative residual of the last solve
     bool topology_changed = false;
     bool rolled_back = false; ///< the step failed and the state was restored
+    /// The step failed right after a cut: the cuts applied since the previous step were undone
+    /// with it (mesh, state and loads as before them); `warnings` says why.
+    bool cut_undone = false;
     std::vector<std::string> warnings;
 };
 
@@ -56,6 +59,11 @@ struct Surface {
 /// What a cut did.
 struct CutSummary {
     int triangles_applied = 0;
+    /// Sweep triangles too small to cut anything at the tissue's scale (area below 2e-10 L^2
+    /// or altitude below 2e-10 L, L the tissue's diagonal), in world or rest space: skipped.
+    int triangles_skipped = 0;
+    /// Rest-space area of the applied triangles inside the uncut tissue [m^2].
+    double swept_area = 0;
     int cells_split = 0;
     int nodes_added = 0;
     int cells_before = 0, cells_after = 0;
@@ -71,6 +79,14 @@ struct MeshStats {
     Index nodes = 0, cells = 0, boundary_triangles = 0, components = 0;
     double rest_volume = 0; ///< [m^3]
     bool surface_closed = false;
+    /// Rest-space area of the Cut faces, both lips [m^2].
+    double cut_area = 0;
+    /// Rest-space area the blade swept inside the uncut tissue, summed over the cuts applied
+    /// (a re-cut over an earlier cut counts again) [m^2].
+    double swept_area = 0;
+    /// cut_area / (2 swept_area): 1 when the cut opened exactly what the blade swept (issue 12
+    /// item 4); 0 before any cut.
+    double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
 };
 
 class Simulation {
@@ -99,8 +115,11 @@ public:
     bool move_grab(long id, const Vec3& target);
     bool release(long id);
 
-    /// Cuts along world-space sweep triangles. Throws InputError for degenerate or non-finite
-    /// triangles without change; triangles outside the tissue change nothing.
+    /// Cuts along world-space sweep triangles. Throws InputError for non-finite or absurdly
+    /// distant triangles without change; triangles outside the tissue or too small to cut at the
+    /// tissue's scale change nothing (counted in CutSummary::triangles_skipped). A cut the cutter
+    /// or the model cannot carry out is undone and throws polycut::Error (nothing changed). A
+    /// cut whose next step() fails is undone by that step (StepReport::cut_undone).
     CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles);
     /// Ends the current scalpel stroke: the face-snapping cutter forgets the incomplete tets it
     /// remembered between triangles (002 sec. 3.2.1). Cell splitting needs no such state.

@@ -1,0 +1,26 @@
+// How complete a cut is (issue 12 item 4): the rest-space area of the Cut faces against twice the
+// area the blade swept inside the tissue (each swept square metre opens two lips). 1 for a cut
+// that separates exactly what the blade swept; face snapping reaches less where the blade runs
+// between mesh faces (docs/scenes.md states the bound).
+#pragma once
+
+#include "polycut/cut/cut_options.hpp"
+#include "polycut/mesh/mesh.hpp"
+
+#include <span>
+
+namespace polycut::cut {
+
+/// Area [m^2] of the part of the rest-space triangle `t` inside the cells of `mesh` (convex
+/// cells, e.g. the uncut mesh: the triangle is clipped by each cell's face planes). Cells that
+/// share a face count the triangle's part in that face once per side; a triangle lying in an
+/// interior face is counted once.
+double area_inside(const mesh::Mesh& mesh, const Triangle& t);
+
+/// Total area of `area_inside` over `triangles` [m^2] (overlaps counted as often as they occur).
+double area_inside(const mesh::Mesh& mesh, std::span<const Triangle> triangles);
+
+/// Rest-space area of the boundary faces tagged Cut [m^2]: both lips of every cut.
+double cut_face_area(const mesh::Mesh& mesh);
+
+} // namespace polycut::cut
