@@ -212,6 +212,16 @@ TEST(Repair, NoneRefusesWhatItWouldHaveToRepair) {
         repair_surface(box(Vec3(0, 0, 0), Vec3(1, 1, 1)), mode(RepairMode::Wrap), 0), InputError);
 }
 
+TEST(MeshingOptions, SceneSpellingsOfTheOptimisers) {
+    MeshingOptions o;
+    EXPECT_TRUE(o.perturb && o.exude && !o.lloyd && !o.odt); // the default
+    select_optimizers(o, { "odt", "exude" });
+    EXPECT_TRUE(o.odt && o.exude && !o.lloyd && !o.perturb);
+    select_optimizers(o, {});
+    EXPECT_FALSE(o.lloyd || o.odt || o.perturb || o.exude);
+    EXPECT_THROW(select_optimizers(o, { "smooth" }), InputError);
+}
+
 TEST(Repair, ModeSpellings) {
     for (RepairMode m : { RepairMode::Auto, RepairMode::None, RepairMode::Pmp, RepairMode::Wrap })
         EXPECT_EQ(parse_repair_mode(to_string(m)), m);

@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -337,15 +338,20 @@ TEST(SurfaceIo, ReadsCommentsAndCrlf) {
 
 // Mutated bytes of valid files (flips, random bytes, inserted digits, deleted and duplicated
 // ranges, truncation), 300 per encoding: every read either loads or throws polycut::Error.
+// POLYCUT_FUZZ_TRIALS and POLYCUT_FUZZ_SEED override the count and the seed (18) for a longer
+// run, e.g. under the dev preset's sanitizers.
 TEST(SurfaceIo, FuzzedFilesLoadOrThrowPolycutErrors) {
     const SurfaceMesh box = box_surface(kLo, kHi, 1);
-    std::mt19937 rng(18);
+    const char* trials_env = std::getenv("POLYCUT_FUZZ_TRIALS");
+    const char* seed_env = std::getenv("POLYCUT_FUZZ_SEED");
+    const int trials = trials_env ? std::atoi(trials_env) : 300;
+    std::mt19937 rng(seed_env ? unsigned(std::atol(seed_env)) : 18u);
     int loaded = 0, refused = 0;
     for (const Encoding& e : kEncodings) {
         const std::string valid = (scratch() / (std::string("fuzz_") + e.name + e.ext)).string();
         write_surface(valid, box, e.encoding);
         const std::string original = read_bytes(valid);
-        for (int trial = 0; trial < 300; ++trial) {
+        for (int trial = 0; trial < trials; ++trial) {
             std::string bytes = original;
             const int edits = 1 + int(rng() % 4);
             for (int k = 0; k < edits && !bytes.empty(); ++k) {

@@ -25,6 +25,24 @@ void check_options(const MeshingOptions& o) {
         throw InputError("options.sliver_bound", "sliver bound must be in [0, 60) degrees");
 }
 
+void select_optimizers(MeshingOptions& o, const std::vector<std::string>& names) {
+    o.lloyd = o.odt = o.perturb = o.exude = false;
+    for (const std::string& name : names) {
+        if (name == "lloyd")
+            o.lloyd = true;
+        else if (name == "odt")
+            o.odt = true;
+        else if (name == "perturb")
+            o.perturb = true;
+        else if (name == "exude")
+            o.exude = true;
+        else
+            throw InputError("optimize",
+                "unknown Mesh_3 optimiser \"" + name
+                    + "\" (expected \"lloyd\", \"odt\", \"perturb\", \"exude\")");
+    }
+}
+
 void print_progress(const std::string& line) {
     std::fprintf(stderr, "polycut meshing: %s\n", line.c_str());
 }

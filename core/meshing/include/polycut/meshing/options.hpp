@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace polycut::meshing {
 
@@ -48,6 +49,11 @@ struct MeshingOptions {
 
 /// Throws InputError (where "options.<field>") unless every option is finite and in range.
 void check_options(const MeshingOptions& options);
+
+/// Sets lloyd, odt, perturb and exude to whether their scene name ("lloyd", "odt", "perturb",
+/// "exude") is in `names` (the scene's geometry.optimize). Throws InputError (where "optimize")
+/// for another name.
+void select_optimizers(MeshingOptions& options, const std::vector<std::string>& names);
 
 /// Receives one line per meshing phase ("Mesh_3 exude: 21209 tets, 1298 ms").
 using ProgressSink = std::function<void(const std::string& line)>;
