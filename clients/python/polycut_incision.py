@@ -385,17 +385,24 @@ def cases_for(frame, args):
     cases.append(Case("fast", "a fast stroke: the whole path in 3 ticks (2 cm, more than a "
                       "cell, per tick)",
                       [("settle", args.settle), ("stroke", Stroke(*F.line(y=off), samples=4))]))
+    def below_world_top(world):
+        # On a deformed body the blade enters `depth` below the world top at the stroke's start.
+        zt = top_z(world[0], F.x0 - margin, F.x1 + margin, off, margin)
+        return F.line(y=off, z_top=zt)
+
     grab_at = [F.xc, F.y + 0.02, F.z_top]
     cases.append(Case("grabbed", "the +y side grabbed and pulled 3 cm up (stiffness 400 N/m), "
-                      "then a stroke at y + 2.5 mm while it is held",
+                      "then a stroke at y + 2.5 mm, 2 cm below the world top, while it is held",
                       [("settle", args.settle), ("grab", grab_at, 400.0, 0.01),
                        ("move_grab", [grab_at[0], grab_at[1], grab_at[2] + 0.03], 0.5),
-                       ("settle", 0.5), ("stroke", std(off))], reference="world"))
+                       ("settle", 0.5), ("stroke", Stroke(seconds=sec, resolve=below_world_top))],
+                      reference="world"))
     cases.append(Case("pressed", "the top pressed down by 5 N over a 2 cm radius next to the "
-                      "path, then a stroke at y + 2.5 mm",
+                      "path, then a stroke at y + 2.5 mm, 2 cm below the world top",
                       [("settle", args.settle),
                        ("force", [F.xc, F.y + 0.015, F.z_top], [0.0, 0.0, -5.0], 0.02),
-                       ("settle", 1.0), ("stroke", std(off))], reference="world"))
+                       ("settle", 1.0), ("stroke", Stroke(seconds=sec, resolve=below_world_top))],
+                      reference="world"))
     return cases
 
 
@@ -444,6 +451,11 @@ class Runner:
         res = {"scene": v.name.split("/")[0], "cutter": v.cutter, "variant": v.name,
                "case": case_name, "ok": False, "failures": [], "errors": [],
                "loadavg_1min": [round(os.getloadavg()[0], 2)]}
+        try:  # the binary may be relinked between cases on a shared machine
+            res["server_bin_mtime"] = time.strftime(
+                "%Y-%m-%dT%H:%M:%S", time.localtime(os.path.getmtime(args.server_bin)))
+        except OSError:
+            pass
         tag = f"{v.name.replace('/', '-')}-{case_name}"
         stderr_path = os.path.join(self.logdir, tag + ".stderr")
         scene_path = v.path
@@ -585,7 +597,13 @@ class Runner:
         for action in case.actions:
             kind = action[0]
             if kind == "settle":
+                # At least half the nominal ticks must have run (a large scene's first steps,
+                # e.g. the AMG set-up, can take seconds), at most 20 s more.
+                _, tick0, _, _ = reader.mark()
                 self.sleep(action[1])
+                want = (tick0 or 0) + math.ceil(0.5 * action[1] * args.rate)
+                if not reader.wait_tick(want, 20.0, rpc.server):
+                    res.setdefault("notes", []).append(f"settle: tick {want} not reached in 20 s")
             elif kind in ("stroke", "strokes"):
                 count = action[2] if kind == "strokes" else 1
                 world = reader.latest_surface()
@@ -916,6 +934,46 @@ def table(results):
     return "\n".join(out)
 
 
+def markdown(results):
+    """Per scene, the cases as rows and the cutters side by side (for docs/perf.md)."""
+    out = []
+    scenes = list(dict.fromkeys(r["scene"] for r in results))
+    for scene in scenes:
+        rs = [r for r in results if r["scene"] == scene]
+        cutters = list(dict.fromkeys(r["cutter"] for r in rs))
+        head = ["case"]
+        for c in cutters:
+            head += [f"{c}: completeness", "up", "worst tick ms", "Hz cutting", "cut ms max"]
+        out.append(f"**{scene}**\n")
+        out.append("| " + " | ".join(head) + " |")
+        out.append("|" + "---|" * len(head))
+        for case in dict.fromkeys(r["case"] for r in rs):
+            row = [case]
+            for c in cutters:
+                r = next((x for x in rs if x["case"] == case and x["cutter"] == c), None)
+                if r is None:
+                    row += ["-"] * 5
+                    continue
+                cut = r.get("cut", {})
+                comp = cut.get("completeness")
+                if comp is None and "area_cm2" in cut:
+                    comp_s = f"{cut['area_cm2']:.2f} cm2 (tangent)"
+                else:
+                    comp_s = fmt(comp, "{:.3f}")
+                fr = r.get("frames", {})
+                if fr.get("exploded") or fr.get("nonfinite"):
+                    comp_s += f" ({fr.get('exploded', 0) + fr.get('nonfinite', 0)} bad frames)"
+                up = "hung" if r.get("hung") else ("yes" if r.get("alive") else
+                                                   f"exit {r.get('exit_before_shutdown')}")
+                tk = r.get("ticks", {})
+                row += [comp_s, up, fmt((tk.get("stats") or {}).get("worst_tick_ms"), "{:.0f}"),
+                        fmt(tk.get("rate_hz"), "{:.1f}"),
+                        fmt(r.get("cut_ms", {}).get("max"), "{:.0f}")]
+            out.append("| " + " | ".join(row) + " |")
+        out.append("")
+    return "\n".join(out)
+
+
 # --------------------------------------------------------------------------------------------
 
 
@@ -965,6 +1023,10 @@ def parse_args(argv):
                    help="also fail when command-to-visible p99 exceeds this many ticks")
     p.add_argument("--no-assert", action="store_true", help="benchmark mode: report, exit 0")
     p.add_argument("--json", metavar="OUT", help="write all results to OUT")
+    p.add_argument("--markdown", action="store_true", help="also print a markdown table per "
+                   "scene (cases x cutters)")
+    p.add_argument("--from-json", metavar="FILE", help="run nothing: print the table (and "
+                   "--markdown) of a --json file")
     p.add_argument("--log-dir", help="keep the servers' stderr and scenes here")
     p.add_argument("--reply-timeout", type=float, help="seconds to wait for a reply before "
                    "the server counts as hung (default 30, 15 with --quick)")
@@ -998,6 +1060,13 @@ def main(argv=None):
     args = parse_args(argv)
     if args.reply_timeout is None:
         args.reply_timeout = 15.0 if args.quick else 30.0
+    if args.from_json:
+        results = load_json(args.from_json)["results"]
+        print(table(results))
+        if args.markdown:
+            print()
+            print(markdown(results))
+        return 0
     live.self_test()
     variants = build_variants(args)
     patterns = ",".join(QUICK_CASES) if args.quick and not args.cases else args.cases
@@ -1046,6 +1115,9 @@ def main(argv=None):
             shutil.rmtree(logdir, ignore_errors=True)
     print()
     print(table(results), flush=True)
+    if args.markdown:
+        print()
+        print(markdown(results), flush=True)
     failed = [r for r in results if not r["ok"]]
     print(f"\n{len(results) - len(failed)} of {len(results)} cases passed"
           f"{' (not asserted: --no-assert)' if args.no_assert else ''}", flush=True)
