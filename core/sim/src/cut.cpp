@@ -22,6 +22,51 @@ geometry::Aabb triangle_box(const std::array<Vec3, 3>& t) {
 }
 } // namespace
 
+namespace {
+/// The snapping rule for blades in planes of faces (issue 12 item 2): a blade meant to run in a
+/// plane of mesh faces (a grid plane, an earlier cut's face) arrives a few micrometres off it
+/// after the world-to-rest fit of a deforming body, and cutting there would leave sheets of
+/// cells microns thick (they explode in the next step) or, for face snapping, no crossings at
+/// all. When every corner of rest triangle `r` lies within `tol` [m] of the plane of a face of
+/// the cells `near`, the corners not yet fixed by earlier triangles (`known` false) are
+/// projected onto the closest such plane, provided the fixed ones already lie in it (within
+/// `exact` [m]). One outcome per configuration, no jitter and no retry.
+void snap_to_face_plane(const mesh::Mesh& m, const std::vector<Index>& near, std::array<Vec3, 3>& r,
+    const std::array<bool, 3>& known, double tol, double exact) {
+    double best = tol;
+    Vec3 best_n = Vec3::Zero();
+    double best_d = 0;
+    std::set<Index> seen;
+    for (Index c : near)
+        for (Index f : m.cells[std::size_t(c)].faces) {
+            if (!seen.insert(f).second)
+                continue;
+            const std::vector<Vec3> loop = geometry::gather(m.rest, m.faces[std::size_t(f)].nodes);
+            const Vec3 n = geometry::polygon_normal(loop);
+            if (!(n.norm() > 0.5))
+                continue;
+            const double d = n.dot(geometry::polygon_centroid(loop));
+            double worst = 0;
+            bool fixed_ok = true;
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double dist = std::abs(n.dot(r[k]) - d);
+                worst = std::max(worst, dist);
+                fixed_ok = fixed_ok && (!known[k] || dist <= exact);
+            }
+            if (fixed_ok && worst <= best && worst > 0) {
+                best = worst;
+                best_n = n;
+                best_d = d;
+            }
+        }
+    if (best_n.isZero())
+        return;
+    for (std::size_t k = 0; k < 3; ++k)
+        if (!known[k])
+            r[k] -= (best_n.dot(r[k]) - best_d) * best_n;
+}
+} // namespace
+
 CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     Impl& s = *m_impl;
     Stopwatch watch;
@@ -70,6 +115,9 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // successive ticks differ by a small fraction of a cell). A curved stroke leaves the plane
     // as soon as it bends by more than that.
     constexpr double kStrokePlane = 0.02;
+    // A blade whose rest triangle lies within kFacePlane x (mean cell size) of the plane of a
+    // face of the cells it meets is put into that plane (see snap_to_face_plane).
+    constexpr double kFacePlane = 0.02;
     // Below this area (relative to L^2) or altitude (relative to L) a triangle cuts nothing; the
     // cutter rejects such rest triangles (CutOptions::min_area), so they are dropped here first.
     constexpr double kMinSweepArea = 2 * cut::CutOptions {}.min_area;
@@ -110,7 +158,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                 s.locator->refit(s.positions, false);
                 located = true;
             }
-            for (Index c : s.locator->candidates(tb))
+            const std::vector<Index> near = s.locator->candidates(tb);
+            for (Index c : near)
                 nodes.insert(s.mesh.cells[std::size_t(c)].nodes.begin(),
                     s.mesh.cells[std::size_t(c)].nodes.end());
             if (nodes.size() < 4)
@@ -133,6 +182,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                             r[k] -= d * previous->normal;
                     }
                 }
+            snap_to_face_plane(s.mesh, near, r, known, kFacePlane * cell_size, same);
         }
         const Vec3 normal = (r[1] - r[0]).cross(r[2] - r[0]);
         const double longest
