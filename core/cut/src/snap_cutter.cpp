@@ -92,6 +92,7 @@ void State::rebuild() {
     selected.assign(m.cells.size(), 0);
     pending.clear();
     recent.clear();
+    swept.clear();
     box.assign(m.cells.size(), {});
     box_ok.assign(m.cells.size(), 0);
 }
@@ -299,6 +300,20 @@ void SnapCutter::end_sweep() {
     s.selected.assign(s.m.cells.size(), 0);
     s.pending.clear();
     s.recent.clear();
+    s.swept.clear();
+}
+
+CutReport SnapCutter::finish_sweep() {
+    Stopwatch watch;
+    auto& s = m_impl->s;
+    CutReport report;
+    s.begin(report);
+    if (!s.pending.empty())
+        snap::open_pinches(s, true);
+    s.end();
+    end_sweep();
+    report.elapsed_ms = watch.ms();
+    return report;
 }
 
 void SnapCutter::rebuild() {
@@ -353,6 +368,7 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         if (s.recent.size() == 4)
             s.recent.erase(s.recent.begin());
         s.recent.push_back(plane);
+        s.swept.push_back(plane);
         for (const auto& p : s.recent)
             snap::select_faces_in_plane(s, p);
         snap::dissect_pending(s);

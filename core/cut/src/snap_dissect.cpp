@@ -171,8 +171,10 @@ Index keep_small_pieces(State& s, std::unordered_set<Index>& take, std::vector<I
     return merged;
 }
 
-// Whether the sweep has passed all around x: for a recent triangle holding x, the circle of
-// radius r around x in its plane (12 points) lies in the union of the recent triangles.
+// Whether the sweep has passed all around x: for a triangle of the sweep holding x, the circle of
+// radius r around x in its plane (12 points) lies in the union of the sweep's triangles. The
+// whole sweep counts, not only the last triangles: a blade sampled every tick sweeps strips
+// narrower than a cell, and only their union covers a node's neighbourhood.
 bool swept_around(const State& s, const Vec3& x, double r) {
     const double eps = s.opt.plane_eps * s.L;
     auto inside = [&](const SweepPlane& P, const Vec3& q, double tol) {
@@ -186,7 +188,7 @@ bool swept_around(const State& s, const Vec3& x, double r) {
         }
         return true;
     };
-    for (const SweepPlane& P : s.recent) {
+    for (const SweepPlane& P : s.swept) {
         if (!inside(P, x, r))
             continue;
         const Vec3 u = P.normal.unitOrthogonal(), v = P.normal.cross(u);
@@ -195,7 +197,7 @@ bool swept_around(const State& s, const Vec3& x, double r) {
         for (int i = 0; i < 12 && all; ++i) {
             const double t = std::numbers::pi * i / 6.0;
             const Vec3 q = x0 + r * (std::cos(t) * u + std::sin(t) * v);
-            all = std::any_of(s.recent.begin(), s.recent.end(),
+            all = std::any_of(s.swept.begin(), s.swept.end(),
                 [&](const SweepPlane& R) { return inside(R, q, r); });
         }
         if (all)
@@ -356,7 +358,7 @@ void dissect_pending(State& s) {
         open_pinches(s);
 }
 
-void open_pinches(State& s) {
+void open_pinches(State& s, bool force) {
     // Pending faces whose pinched edges all lie where the sweep has passed all around, chosen
     // greedily: cutting a face can pinch only its own edges, and only cuts at a node can split
     // its star, so faces chosen earlier stay resolved by their own edge splits.
@@ -375,8 +377,8 @@ void open_pinches(State& s) {
             const Index a = face.nodes[k], b = face.nodes[(k + 1) % 3];
             if (!pinch.pinched(a, b))
                 continue;
-            const double r = ring_size(s, a, b);
-            ok = swept_around(s, s.X(a), r) && swept_around(s, s.X(b), r);
+            const double r = s.opt.pinch_clearance * ring_size(s, a, b);
+            ok = force || (swept_around(s, s.X(a), r) && swept_around(s, s.X(b), r));
             mine.emplace_back(std::min(a, b), std::max(a, b));
         }
         if (!ok || mine.empty()) {

@@ -54,6 +54,9 @@ struct State {
     std::vector<Index> pending; ///< selected interior faces not dissected yet, in selection order
     std::vector<Index> near; ///< tets whose bounds overlap the current triangle
     std::vector<SweepPlane> recent; ///< the last triangles of the sweep, newest last
+    /// Every triangle of the current sweep (cleared by end_sweep): where the blade has passed,
+    /// for deciding that a held-back face lies behind the blade.
+    std::vector<SweepPlane> swept;
     std::vector<geometry::Aabb> box; ///< rest bounds per tet
     std::vector<char> box_ok;
 
@@ -113,7 +116,7 @@ void dissect_pending(State& s);
 
 /// Cuts pending faces held back at pinched edges where the sweep has passed all around those
 /// edges: the edges are split at their midpoints and the faces dissected.
-void open_pinches(State& s);
+void open_pinches(State& s, bool force = false);
 
 /// Duplicates node n once per group of its tets not connected through interior faces at n.
 void split_node(State& s, Index n);

@@ -255,9 +255,27 @@ void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
 }
 
 void Simulation::end_stroke() {
-    m_impl->stroke_corners.clear();
-    if (m_impl->snap_cutter)
-        m_impl->snap_cutter->end_sweep();
+    Impl& s = *m_impl;
+    s.stroke_corners.clear();
+    if (!s.snap_cutter)
+        return;
+    // Face snapping holds faces back while cutting them would pinch an edge; when the blade is
+    // lifted they are cut (their pinched edges split), so the stroke ends complete.
+    Impl::Snapshot before = s.snapshot();
+    try {
+        const cut::CutReport report = s.snap_cutter->finish_sweep();
+        if (!report.topology_changed)
+            return;
+        s.resize_state_after_cut(report);
+        s.check_cut_cells(report.changed_cells);
+        if (is_static())
+            s.fix_free_pieces();
+    } catch (const std::exception& e) {
+        s.restore(before);
+        throw Error("cut", std::string("finishing the stroke failed and was undone: ") + e.what());
+    }
+    if (!s.cut_undo)
+        s.cut_undo = std::make_unique<Impl::Snapshot>(std::move(before));
 }
 
 void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {

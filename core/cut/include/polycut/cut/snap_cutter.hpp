@@ -65,6 +65,11 @@ struct SnapOptions {
     /// far side of a jagged cut where a snap was refused, touching its side only at a node) does
     /// not cut those faces: the piece stays with the tets across them. 0 disables the check.
     Index min_piece_cells = 8;
+    /// A selected face held back because cutting it would pinch an edge is cut (the edge split
+    /// at its midpoint) once the sweep has passed all around the edge's end nodes within this
+    /// fraction of the longest edge of the tets around the edge: the incision then lags the
+    /// blade by about that distance instead of waiting for nodes that never separate.
+    double pinch_clearance = 1.0;
 };
 
 /// What the last cut call of a SnapCutter did beyond the common CutReport.
@@ -120,6 +125,11 @@ public:
 
     /// Forgets the remembered intersections and pending faces (the next sweep starts afresh).
     void end_sweep();
+    /// Ends the sweep like end_sweep(), but first cuts the faces still held back because they
+    /// would pinch an edge (splitting those edges at their midpoints, as for faces the sweep has
+    /// passed all around): when the blade is lifted, what it swept is cut. Same report and
+    /// contract as cut().
+    CutReport finish_sweep();
     /// Recomputes adjacency after external edits of the mesh (also forgets the sweep).
     void rebuild();
     /// Removes degenerate tets anywhere in the mesh (002 sec. 3.2.3), not only those a cut
