@@ -418,11 +418,17 @@ def area_in_box(tri, lo, hi, eps=1e-9):
 
 
 def area_in_surface(tri, V, F):
-    """Area of the planar triangle `tri` (3 x 3) inside the closed, outward-oriented triangle
-    surface (V, F), exactly (up to rounding): the surface's section by the triangle's plane gives
-    oriented segments (material on their left); the area of (section region) ∩ triangle is
-    1/2 ∮ (u dv - v du) over the segment parts inside the triangle plus the parts of the
-    triangle's edges inside the section (found by a parity test)."""
+    """Area of the planar triangle `tri` (3 x 3) strictly inside the closed, outward-oriented
+    triangle surface (V, F), exactly (up to rounding): the surface's section by the triangle's
+    plane gives oriented segments (material on their left); the area of (section region) ∩
+    triangle is 1/2 ∮ (u dv - v du) over the segment parts inside the triangle plus the parts of
+    the triangle's edges inside the section (found by a parity test). Surface vertices lying in
+    the plane are put on one side, then on the other; the smaller area is the one strictly
+    inside (a triangle lying in a face of the surface counts 0, not its whole area)."""
+    return min(_area_in_surface(tri, V, F, False), _area_in_surface(tri, V, F, True))
+
+
+def _area_in_surface(tri, V, F, ties_positive):
     a, b, c = (np.asarray(p, dtype=np.float64) for p in tri)
     n = np.cross(b - a, c - a)
     nn = np.linalg.norm(n)
@@ -432,7 +438,7 @@ def area_in_surface(tri, V, F):
     e1 = (b - a) / np.linalg.norm(b - a)
     e2 = np.cross(n, e1)
     s = (V - a) @ n
-    pos = s > 0  # a vertex exactly in the plane counts as below (symbolic perturbation)
+    pos = s >= 0 if ties_positive else s > 0  # a vertex in the plane goes to one side
     P = pos[F]
     cnt = P.sum(axis=1)
     mixed = (cnt == 1) | (cnt == 2)
@@ -566,7 +572,14 @@ def self_test():
         tri = rng.uniform(-0.08, 0.08, size=(3, 3)) + np.array([0, 0, 0.025])
         ab, asurf = area_in_box(tri, lo, hi, eps=0.0), area_in_surface(tri, V, F)
         assert abs(ab - asurf) < 1e-9, (tri, ab, asurf)
-    # A triangle in the top face plane: strictly inside nothing.
+    # A triangle in the top face plane, either orientation: strictly inside nothing.
     top = np.array([[-0.03, -0.01, 0.05], [0.03, -0.01, 0.05], [0.0, 0.01, 0.05]])
-    assert area_in_box(top, lo, hi) == 0.0
+    for t in (top, top[::-1]):
+        assert area_in_box(t, lo, hi) == 0.0
+        assert area_in_surface(t, V, F) == 0.0, area_in_surface(t, V, F)
+    # Through surface vertices (the plane y = 0 holds a row of them): the same either way.
+    mid = np.array([[-0.03, 0.0, 0.07], [-0.03, 0.0, 0.03], [0.03, 0.0, 0.07]])
+    V2, F2 = box_surface(lo, hi, n=(4, 4, 2))
+    for t in (mid, mid[::-1]):
+        assert abs(area_in_surface(t, V2, F2) - 3e-4) < 1e-9, area_in_surface(t, V2, F2)
     return True
