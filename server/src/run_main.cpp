@@ -1,7 +1,8 @@
 // polycut-run: runs a scene without a server and prints one JSON document to stdout.
 //   polycut-run SCENE.json [--steps N] [--vtu DIR]
 // Static scenes are solved to convergence; dynamic scenes run N steps (default: the scene's
-// output.steps). Scripted sweeps in the scene are applied at their ticks. Bad input: a message on
+// output.steps). Scripted sweeps in the scene are applied at their ticks. CGAL-meshed geometry
+// adds "meshing" (repair and tet quality) to the report. Bad input: a message on
 // stderr and exit status 2.
 #include "polycut/common/error.hpp"
 #include "polycut/sim/simulation.hpp"
@@ -67,6 +68,12 @@ int main(int argc, char** argv) {
         run::RunRecord rec;
         rec.scene = sc.name;
         rec.method = sc.method;
+        rec.meshing = sim.meshing_summary();
+        if (rec.meshing.has_slivers)
+            rec.warnings.push_back("meshing: " + std::to_string(rec.meshing.slivers)
+                + " slivers (tets with a dihedral angle under "
+                + std::to_string(int(rec.meshing.sliver_dihedral_deg))
+                + " deg): use a smaller cell_size, or optimize with perturb and exude");
         rec.before = sim.mesh_stats();
         if (steps < 0)
             steps = sim.is_static() ? 1 : sc.output.steps;

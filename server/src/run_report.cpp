@@ -15,6 +15,30 @@ nlohmann::json mesh_json(const sim::MeshStats& m) {
         { "boundary_triangles", m.boundary_triangles }, { "rest_volume", m.rest_volume },
         { "components", m.components }, { "surface_closed", m.surface_closed } };
 }
+
+/// The repair report and tet quality of a CGAL-meshed geometry (docs/scenes.md, geometry).
+nlohmann::json meshing_json(const sim::MeshingSummary& m) {
+    nlohmann::json j
+        = { { "source", m.source }, { "mesh_ms", m.mesh_ms }, { "total_ms", m.total_ms } };
+    if (m.has_repair)
+        j["repair"] = { { "mode", m.repair_mode }, { "applied", m.repair_applied },
+            { "repaired", m.repair_applied != "none" }, { "summary", m.repair_summary },
+            { "faces_in", m.faces_in }, { "faces_out", m.faces_out },
+            { "holes_filled", m.holes_filled }, { "holes_unfilled", m.holes_unfilled },
+            { "self_intersections_in", m.self_intersections_in },
+            { "self_intersections_out", m.self_intersections_out },
+            { "components_in", m.components_in }, { "components_out", m.components_out },
+            { "wrapped", m.wrapped }, { "volume_in", m.volume_in }, { "volume_out", m.volume_out },
+            { "volume_change", m.volume_change }, { "time_ms", m.repair_ms } };
+    j["quality"] = { { "tets", m.tets }, { "min_dihedral_deg", m.min_dihedral_deg },
+        { "max_dihedral_deg", m.max_dihedral_deg },
+        { "radius_ratio",
+            { { "min", m.radius_ratio_min }, { "p1", m.radius_ratio_p1 },
+                { "p50", m.radius_ratio_p50 } } },
+        { "slivers", m.slivers }, { "sliver_dihedral_deg", m.sliver_dihedral_deg },
+        { "has_slivers", m.has_slivers }, { "summary", m.quality_summary } };
+    return j;
+}
 } // namespace
 
 nlohmann::json to_json(const RunRecord& r) {
@@ -22,6 +46,8 @@ nlohmann::json to_json(const RunRecord& r) {
     j["scene"] = r.scene;
     j["method"] = r.method;
     j["mesh"] = mesh_json(r.before);
+    if (r.meshing.meshed)
+        j["meshing"] = meshing_json(r.meshing);
     j["steps"] = r.steps;
     nlohmann::json probes = nlohmann::json::object();
     for (const auto& [name, u] : r.probes)

@@ -1,4 +1,5 @@
-// The headless runner's JSON report (issue 2 item 6, issue 3 item 4, issue 5 item 7).
+// The headless runner's JSON report (issue 2 item 6, issue 3 item 4, issue 5 item 7, issue 18
+// items 1-2: the meshing report).
 #pragma once
 
 #include "polycut/common/stats.hpp"
@@ -14,6 +15,7 @@ namespace polycut::run {
 struct RunRecord {
     std::string scene;
     std::string method;
+    sim::MeshingSummary meshing; ///< CGAL meshing of the geometry, reported when meshed
     sim::MeshStats before;
     sim::MeshStats after;
     long steps = 0;

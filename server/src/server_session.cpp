@@ -6,6 +6,7 @@
 #include "polycut/scene/scene.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <type_traits>
@@ -63,6 +64,20 @@ std::optional<RpcError> check_inline_paths(const scene::Scene& s) {
     return std::nullopt;
 }
 
+/// One stderr line on what meshing did for a scene being loaded (repair and tet quality), so an
+/// operator sees a repaired or sliver-ridden organ without the runner; the wire reply is unchanged.
+void log_meshing(const std::string& scene_name, const sim::MeshingSummary& m) {
+    if (!m.meshed) {
+        return;
+    }
+    const std::string repair = m.has_repair ? "; repair " + m.repair_summary : std::string();
+    // The quality line ends in a warning when the tets include slivers.
+    std::fprintf(stderr,
+        "[info] polycut-server: scene \"%s\" meshed (%s) in %.0f ms%s; quality %s\n",
+        scene_name.c_str(), m.source.c_str(), m.total_ms, repair.c_str(),
+        m.quality_summary.c_str());
+}
+
 } // namespace
 
 Session::Session(SessionConfig config)
@@ -100,6 +115,7 @@ void Session::load_scene_file(const std::string& path) {
 void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
     m_sim = std::move(sim);
     m_scene_name = std::move(name);
+    log_meshing(m_scene_name, m_sim->meshing_summary());
     m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
     m_forces.clear();
     m_grabs.clear();

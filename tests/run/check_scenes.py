@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Runs polycut-run on shipped scenes and checks each report against its analytic value or
-invariant (issues 2-5). Usage: check_scenes.py POLYCUT_RUN SCENE_DIR GROUP"""
+invariant (issues 2-5, 18). Usage: check_scenes.py POLYCUT_RUN SCENE_DIR GROUP"""
 import json
 import math
 import os
@@ -118,6 +118,51 @@ elif GROUP == "falling":
         out = subprocess.run([RUN, bad], capture_output=True, text=True, timeout=60)
         check(out.returncode == 2 and "/geometry/points/4" in out.stderr and bad in out.stderr,
               f"bad hull: exit {out.returncode}, error names the point and the file: {out.stderr.strip()}")
+elif GROUP == "organ":
+    # issue 18 items 1-2: a defective organ surface is repaired (not wrapped: PMP keeps the
+    # volume), meshed without slivers, and the runner reports both under "meshing".
+    r = run("organ_repaired", "--steps", "10")
+    if r:
+        m = r.get("meshing")
+        check(m is not None and m["source"] == "surface_file", "organ_repaired: meshing reported")
+        if m:
+            rep, q = m["repair"], m["quality"]
+            check(rep["repaired"] and rep["applied"] != "none",
+                  f"organ_repaired: surface repaired ({rep['applied']}): {rep['summary']}")
+            check(abs(rep["volume_change"]) < 0.01,
+                  f"organ_repaired: repair volume change {100 * rep['volume_change']:+.4f} % below 1 %")
+            check(rep["faces_in"] > 0 and rep["faces_out"] > 0, "organ_repaired: faces in and out reported")
+            check(q["min_dihedral_deg"] > 5,
+                  f"organ_repaired: min dihedral {q['min_dihedral_deg']:.2f} deg above 5 deg")
+            check(not q["has_slivers"] and q["slivers"] == 0, "organ_repaired: no slivers")
+            check(q["tets"] == r["mesh"]["cells"], f"organ_repaired: quality over all {q['tets']} tets")
+            check(0 < q["radius_ratio"]["min"] <= q["radius_ratio"]["p1"] <= q["radius_ratio"]["p50"] <= 1,
+                  "organ_repaired: radius ratio min <= p1 <= p50 <= 1")
+            check(m["total_ms"] >= m["mesh_ms"] > 0,
+                  f"organ_repaired: meshing time {m['total_ms']:.0f} ms (Mesh_3 {m['mesh_ms']:.0f} ms)")
+            # The tets fill the repaired surface (Mesh_3 approximates it within the facet distance).
+            gap = r["mesh"]["rest_volume"] / rep["volume_out"] - 1
+            check(abs(gap) < 0.03, f"organ_repaired: tet volume within {100 * gap:+.2f} % of the surface's")
+        check(r["mesh"]["surface_closed"], "organ_repaired: mesh surface closed")
+        check(r["mesh"]["components"] == 1, "organ_repaired: one component")
+        check(r["solver"]["rolled_back_steps"] == 0, "organ_repaired: no rolled-back steps")
+        u = r["probes"]["tip"]["displacement"]
+        check(all(math.isfinite(x) for x in u) and u[2] < 0, f"organ_repaired: tip sags ({u[2]:.2e} m)")
+    # The same surface with repair "none" is refused: exit 2, naming the field and the file.
+    with open(os.path.join(DIR, "organ_repaired.json")) as f:
+        scene = json.load(f)
+    scene["geometry"]["path"] = os.path.abspath(os.path.join(DIR, scene["geometry"]["path"]))
+    scene["geometry"]["repair"] = "none"
+    with tempfile.TemporaryDirectory() as tmp:
+        bad = os.path.join(tmp, "organ_unrepaired.json")
+        with open(bad, "w") as f:
+            json.dump(scene, f)
+        out = subprocess.run([RUN, bad], capture_output=True, text=True, timeout=300)
+        check(out.returncode == 2 and "/geometry/path" in out.stderr and bad in out.stderr,
+              f"repair none: exit {out.returncode}, error names the field and the file: {out.stderr.strip()[-300:]}")
+    # Geometry that is not meshed by CGAL has no "meshing" report.
+    r = run("default", "--steps", "1")
+    check(r is not None and "meshing" not in r, "default (box): no meshing report")
 else:
     sys.exit(f"unknown group {GROUP}")
 

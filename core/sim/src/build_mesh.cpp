@@ -1,5 +1,6 @@
 // The mesh a scene's geometry names: box grids, random-plane polyhedra, CGAL meshing of implicit
-// shapes and surface files, volume mesh files, and single convex cells.
+// shapes and surface files (with their repair report and tet quality), volume mesh files, and
+// single convex cells.
 #include "polycut/sim/build_mesh.hpp"
 
 #include "polycut/common/error.hpp"
@@ -9,9 +10,13 @@
 #include "polycut/mesh/validate.hpp"
 #include "polycut/meshing/convex_hull.hpp"
 #include "polycut/meshing/implicit.hpp"
-#include "polycut/meshing/surface.hpp"
+#include "polycut/meshing/quality.hpp"
+#include "polycut/meshing/surface_file.hpp"
+#include "polycut/sim/simulation.hpp"
 
+#include <chrono>
 #include <filesystem>
+#include <string_view>
 
 namespace polycut::sim {
 namespace {
@@ -26,6 +31,132 @@ void scale_mesh(mesh::Mesh& m, double scale) {
     if (scale != 1.0)
         for (Vec3& X : m.rest)
             X *= scale;
+}
+
+/// A meshing InputError as a SceneError at the geometry key it is about ("options.cell_size" ->
+/// "/geometry/cell_size", "shape.radii" -> "/geometry/radii"); any other (the surface itself
+/// cannot be repaired) points at `fallback` with `subject` (the file) leading the problem.
+SceneError geometry_error(
+    const InputError& e, const std::string& fallback, const std::string& subject) {
+    std::string_view key = e.where();
+    for (std::string_view prefix : { "options.", "shape." })
+        if (key.starts_with(prefix))
+            key.remove_prefix(prefix.size());
+    for (std::string_view k :
+        { "cell_size", "sliver_bound", "optimize", "scale", "wrap", "radii", "length", "center" })
+        if (key == k)
+            return SceneError("/geometry/" + std::string(key), e.problem());
+    return SceneError(fallback, subject + ": " + e.problem());
+}
+
+/// Mesh_3 options of an implicit or surface_file geometry. The scene parser has checked the
+/// names; select_optimizers() rejects any other.
+meshing::MeshingOptions meshing_options(const scene::Geometry& g) {
+    meshing::MeshingOptions o;
+    o.cell_size = g.cell_size;
+    o.seed = g.seed;
+    o.sliver_bound = g.sliver_bound;
+    try {
+        meshing::select_optimizers(o, g.optimize);
+    } catch (const InputError& e) {
+        throw SceneError("/geometry/optimize", e.problem());
+    }
+    return o;
+}
+
+void copy_quality(const meshing::TetQuality& q, MeshingSummary& out) {
+    out.tets = q.tets;
+    out.min_dihedral_deg = q.min_dihedral_deg;
+    out.max_dihedral_deg = q.max_dihedral_deg;
+    out.radius_ratio_min = q.radius_ratio_min;
+    out.radius_ratio_p1 = q.radius_ratio_p1;
+    out.radius_ratio_p50 = q.radius_ratio_p50;
+    out.slivers = q.slivers;
+    out.sliver_dihedral_deg = meshing::kSliverDihedralDeg;
+    out.has_slivers = q.has_slivers();
+    out.quality_summary = meshing::to_string(q);
+}
+
+void copy_repair(const meshing::RepairReport& r, MeshingSummary& out) {
+    out.has_repair = true;
+    out.repair_mode = std::string(meshing::to_string(r.mode));
+    out.repair_applied = r.applied;
+    out.repair_summary = r.summary();
+    out.faces_in = r.faces_in;
+    out.faces_out = r.faces_out;
+    out.holes_filled = r.holes_filled;
+    out.holes_unfilled = r.holes_unfilled;
+    out.self_intersections_in = r.self_intersections_in;
+    out.self_intersections_out = r.self_intersections_out;
+    out.components_in = r.components_in;
+    out.components_out = r.components_out;
+    out.wrapped = r.wrapped;
+    out.volume_in = r.volume_in;
+    out.volume_out = r.volume_out;
+    out.volume_change = r.volume_change;
+    out.repair_ms = r.time_ms;
+}
+
+/// CGAL Mesh_3 of an implicit shape, with progress on stderr.
+mesh::Mesh implicit_mesh(const scene::Geometry& g, MeshingSummary& summary) {
+    meshing::ImplicitShape shape;
+    if (g.shape == "sphere")
+        shape = meshing::ImplicitShape::sphere(g.radii.x(), g.center);
+    else if (g.shape == "ellipsoid")
+        shape = meshing::ImplicitShape::ellipsoid(g.radii, g.center);
+    else if (g.shape == "capsule")
+        shape = meshing::ImplicitShape::capsule(g.radii.x(), g.length, Vec3::UnitZ(), g.center);
+    else
+        shape = meshing::ImplicitShape::blob(g.radii, g.center);
+    const meshing::MeshingOptions options = meshing_options(g);
+    const auto start = std::chrono::steady_clock::now();
+    mesh::Mesh m;
+    try {
+        m = meshing::mesh_implicit(shape, options, meshing::print_progress);
+    } catch (const InputError& e) {
+        throw geometry_error(e, "/geometry", "shape \"" + g.shape + "\"");
+    }
+    summary.mesh_ms
+        = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
+    copy_quality(meshing::tet_quality(m), summary);
+    summary.total_ms = summary.mesh_ms;
+    summary.source = "implicit";
+    summary.meshed = true;
+    return m;
+}
+
+/// A surface file read, repaired as the scene says, and meshed by CGAL Mesh_3 (in metres).
+mesh::Mesh surface_file_mesh(const scene::Scene& s, MeshingSummary& summary) {
+    const scene::Geometry& g = s.geometry;
+    meshing::SurfaceFileOptions o;
+    o.scale = g.scale;
+    o.meshing = meshing_options(g);
+    const auto mode = meshing::parse_repair_mode(g.repair);
+    if (!mode)
+        throw SceneError("/geometry/repair", "unknown repair mode \"" + g.repair + "\"");
+    const auto components = meshing::parse_components_mode(g.components);
+    if (!components)
+        throw SceneError(
+            "/geometry/components", "unknown components mode \"" + g.components + "\"");
+    o.repair.mode = *mode;
+    o.repair.components = *components;
+    o.repair.wrap_alpha = g.wrap_alpha;
+    o.repair.wrap_offset = g.wrap_offset;
+    const std::string path = resolve(s, g.path);
+    meshing::SurfaceFileMesh r;
+    try {
+        r = meshing::mesh_surface_file(path, o); // FileError passes through
+    } catch (const InputError& e) {
+        throw geometry_error(e, "/geometry/path", path);
+    }
+    copy_repair(r.repair, summary);
+    copy_quality(r.quality, summary);
+    summary.mesh_ms = r.mesh_ms;
+    summary.total_ms = r.total_ms;
+    summary.source = "surface_file";
+    summary.meshed = true;
+    return std::move(r.mesh);
 }
 
 /// One convex polyhedral cell (seed 000 Fig. 1). The hull is taken of the points as written
@@ -54,8 +185,9 @@ mesh::Mesh convex_hull_mesh(const scene::Geometry& g) {
 }
 } // namespace
 
-mesh::Mesh build_mesh(const scene::Scene& s) {
+mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
     const scene::Geometry& g = s.geometry;
+    MeshingSummary meshed;
     mesh::Mesh m;
     switch (g.kind) {
     case scene::Geometry::Kind::Box:
@@ -78,38 +210,12 @@ mesh::Mesh build_mesh(const scene::Scene& s) {
                 grid, g.tet_split == "five" ? mesh::TetSplit::Five : mesh::TetSplit::Kuhn6);
         break;
     }
-    case scene::Geometry::Kind::Implicit: {
-        meshing::ImplicitShape shape;
-        if (g.shape == "sphere")
-            shape = meshing::ImplicitShape::sphere(g.radii.x(), g.center);
-        else if (g.shape == "ellipsoid")
-            shape = meshing::ImplicitShape::ellipsoid(g.radii, g.center);
-        else if (g.shape == "capsule")
-            shape = meshing::ImplicitShape::capsule(g.radii.x(), g.length, Vec3::UnitZ(), g.center);
-        else
-            shape = meshing::ImplicitShape::blob(g.radii, g.center);
-        meshing::MeshingOptions opt;
-        opt.cell_size = g.cell_size;
-        opt.seed = g.seed;
-        try {
-            m = meshing::mesh_implicit(shape, opt);
-        } catch (const InputError& e) {
-            throw SceneError("/geometry", e.what());
-        }
+    case scene::Geometry::Kind::Implicit:
+        m = implicit_mesh(g, meshed);
         break;
-    }
-    case scene::Geometry::Kind::SurfaceFile: {
-        meshing::MeshingOptions opt;
-        opt.cell_size = g.cell_size / g.scale; // mesh in file units, then scale
-        opt.seed = g.seed;
-        try {
-            m = meshing::mesh_surface_file(resolve(s, g.path), opt);
-        } catch (const InputError& e) {
-            throw SceneError("/geometry/path", e.what());
-        }
-        scale_mesh(m, g.scale);
+    case scene::Geometry::Kind::SurfaceFile:
+        m = surface_file_mesh(s, meshed);
         break;
-    }
     case scene::Geometry::Kind::MeshFile:
         m = mesh::read_volume_mesh(resolve(s, g.path));
         scale_mesh(m, g.scale);
@@ -130,6 +236,8 @@ mesh::Mesh build_mesh(const scene::Scene& s) {
         throw SceneError("/method",
             "\"tet\" needs a pure tetrahedral mesh; this geometry has other "
             "cells (use \"mvc\" or \"harmonic\")");
+    if (summary)
+        *summary = std::move(meshed);
     return m;
 }
 

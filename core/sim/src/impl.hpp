@@ -36,6 +36,7 @@ struct ActiveGrab {
 
 struct Simulation::Impl {
     scene::Scene scene;
+    MeshingSummary meshing; ///< what CGAL meshing reported while building initial_mesh
     mesh::Mesh initial_mesh; ///< for reset()
     mesh::Mesh mesh;
     std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets

@@ -114,6 +114,10 @@ MeshStats Simulation::mesh_stats() const {
     return st;
 }
 
+const MeshingSummary& Simulation::meshing_summary() const {
+    return m_impl->meshing;
+}
+
 std::uint64_t Simulation::state_hash() const {
     // FNV-1a over positions, velocities and the topology counts.
     std::uint64_t h = 1469598103934665603ull;

@@ -13,7 +13,7 @@ namespace polycut::sim {
 Simulation::Simulation(scene::Scene scene)
     : m_impl(std::make_unique<Impl>()) {
     m_impl->scene = std::move(scene);
-    m_impl->initial_mesh = build_mesh(m_impl->scene);
+    m_impl->initial_mesh = build_mesh(m_impl->scene, &m_impl->meshing);
     m_impl->build();
 }
 

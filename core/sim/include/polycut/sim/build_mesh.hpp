@@ -7,7 +7,11 @@
 
 namespace polycut::sim {
 
-/// Throws SceneError (pointing at /geometry/...), FileError or MeshError.
-mesh::Mesh build_mesh(const scene::Scene& scene);
+struct MeshingSummary; // simulation.hpp
+
+/// Throws SceneError (pointing at /geometry/...), FileError or MeshError. CGAL-meshed geometry
+/// (surface_file, implicit) writes one progress line per phase to stderr and, if `summary` is
+/// given, its repair report and tet quality there (summary->meshed false for other geometry).
+mesh::Mesh build_mesh(const scene::Scene& scene, MeshingSummary* summary = nullptr);
 
 } // namespace polycut::sim

@@ -89,6 +89,45 @@ struct MeshStats {
     double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
 };
 
+/// What CGAL meshing reported when the scene's geometry was meshed (geometry "surface_file" or
+/// "implicit"): the repair of the surface and the quality of the tets (meshing::RepairReport and
+/// meshing::TetQuality, copied so that this header stays free of the meshing module).
+struct MeshingSummary {
+    /// False for geometry that is not meshed by CGAL (box, random_planes, mesh_file,
+    /// convex_hull): every other field keeps its default.
+    bool meshed = false;
+    std::string source; ///< "surface_file" or "implicit"
+
+    // Repair (surface_file only; implicit shapes need none): repair.hpp
+    bool has_repair = false; ///< true for surface_file
+    std::string repair_mode; ///< what the scene asked: "auto", "none", "pmp" or "wrap"
+    std::string repair_applied; ///< what was done: "none", "pmp", "wrap" or "pmp+wrap"
+    std::string repair_summary; ///< one line: RepairReport::summary()
+    Index faces_in = 0, faces_out = 0; ///< triangles before and after the repair
+    Index holes_filled = 0, holes_unfilled = 0;
+    Index self_intersections_in = 0; ///< intersecting face pairs found
+    Index self_intersections_out = 0; ///< ... left after PMP's removal
+    Index components_in = 0, components_out = 0;
+    bool wrapped = false; ///< the surface was replaced by an Alpha_wrap_3 wrap
+    double volume_in = 0, volume_out = 0; ///< enclosed volume before and after [m^3]
+    double volume_change = 0; ///< volume_out / volume_in - 1
+    double repair_ms = 0; ///< wall time of the repair [ms]
+
+    // Quality of the tets (quality.hpp)
+    Index tets = 0;
+    double min_dihedral_deg = 0; ///< smallest dihedral angle [deg]
+    double max_dihedral_deg = 0; ///< largest dihedral angle [deg]
+    /// Radius ratio 3 r_in / r_circ (1 regular, 0 flat): minimum, 1st percentile, median.
+    double radius_ratio_min = 0, radius_ratio_p1 = 0, radius_ratio_p50 = 0;
+    Index slivers = 0; ///< tets with a dihedral angle below sliver_dihedral_deg
+    double sliver_dihedral_deg = 0; ///< the sliver threshold [deg]
+    bool has_slivers = false; ///< slivers > 0: the scene should be remeshed
+    std::string quality_summary; ///< one line: meshing::to_string(TetQuality)
+
+    double mesh_ms = 0; ///< wall time of CGAL Mesh_3 with its optimisers [ms]
+    double total_ms = 0; ///< wall time of the whole meshing (read, repair, Mesh_3, quality) [ms]
+};
+
 class Simulation {
 public:
     /// Builds the mesh and model the scene asks for. Throws SceneError, FileError, MeshError.
@@ -140,6 +179,9 @@ public:
     std::uint64_t state_hash() const;
 
     /// Writes the volume mesh with displacement and stress fields as VTU.
+    /// What meshing reported while the scene was built (meshed false if the geometry was not
+    /// meshed by CGAL). Unchanged by reset() and cuts.
+    const MeshingSummary& meshing_summary() const;
     void write_vtu(const std::string& path) const;
 
 private:
