@@ -173,15 +173,15 @@ public:
     /// Displacement [m] at a named probe (interpolated in the cell that contains it).
     Vec3 probe_displacement(const std::string& name) const;
     MeshStats mesh_stats() const;
+    /// What meshing reported while the scene was built (meshed false if the geometry was not
+    /// meshed by CGAL). Unchanged by reset() and cuts.
+    const MeshingSummary& meshing_summary() const;
     /// Node world positions (#N) [m].
     const std::vector<Vec3>& positions() const;
     /// Hash of the whole dynamic state (positions, velocities, topology) for determinism tests.
     std::uint64_t state_hash() const;
 
     /// Writes the volume mesh with displacement and stress fields as VTU.
-    /// What meshing reported while the scene was built (meshed false if the geometry was not
-    /// meshed by CGAL). Unchanged by reset() and cuts.
-    const MeshingSummary& meshing_summary() const;
     void write_vtu(const std::string& path) const;
 
 private:
