@@ -251,6 +251,27 @@ void Session::flush_sweeps() {
     }
 }
 
+std::uint32_t Session::queue_sweep(Stroke& stroke, const protocol::Vector3& a,
+    const protocol::Vector3& b, std::string_view client, std::uint64_t id) {
+    // Consecutive samples a0b0 -> a1b1 sweep the quad (a0, b0, b1, a1): two triangles
+    // (a0, b0, a1) and (b0, b1, a1); degenerate ones (the blade did not move) are skipped.
+    const std::array<protocol::Triangle3, 2> quad
+        = { protocol::Triangle3 { stroke.a, stroke.b, a }, protocol::Triangle3 { stroke.b, b, a } };
+    std::uint32_t added = 0;
+    for (const auto& tri : quad) {
+        if (!protocol::triangle_defect(tri)) {
+            m_pending_sweep.push_back(
+                { std::string(client), id, { to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) } });
+            ++added;
+        }
+    }
+    stroke.a = a;
+    stroke.b = b;
+    stroke.held = false;
+    stroke.triangles += added;
+    return added;
+}
+
 std::optional<RpcError> Session::take_rejection(std::string_view client, std::uint64_t stroke) {
     for (auto it = m_rejections.begin(); it != m_rejections.end(); ++it) {
         if (it->client == client && it->stroke == stroke) {
@@ -457,24 +478,20 @@ ApplyOutcome Session::scalpel(
         opened.b = p.b;
         return done(protocol::ScalpelResult { effect_tick(), 0 });
     }
-    // Consecutive samples a0b0 -> a1b1 sweep the quad (a0, b0, b1, a1): two triangles
-    // (a0, b0, a1) and (b0, b1, a1); degenerate ones (the blade did not move) are skipped.
-    const std::array<protocol::Triangle3, 2> quad
-        = { protocol::Triangle3 { stroke->a, stroke->b, p.a },
-              protocol::Triangle3 { stroke->b, p.b, p.a } };
-    std::uint32_t added = 0;
-    for (const auto& tri : quad) {
-        if (!protocol::triangle_defect(tri)) {
-            m_pending_sweep.push_back({ std::string(client), p.stroke,
-                { to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) } });
-            ++added;
-        }
-    }
     const Stroke previous = *stroke;
-    stroke->a = p.a;
-    stroke->b = p.b;
-    stroke->triangles += added;
     stroke->last_used_s = now_s;
+    // A blade that moved less than blade_min_advance since the last swept sample is held: the
+    // next sample (or end_stroke) sweeps from the last swept one, so the cutter sees strips of
+    // at least that width instead of one sliver per tick.
+    const double advance = std::max(
+        (to_vec(p.a) - to_vec(stroke->a)).norm(), (to_vec(p.b) - to_vec(stroke->b)).norm());
+    if (advance < m_sim->blade_min_advance()) {
+        stroke->held = true;
+        stroke->held_a = p.a;
+        stroke->held_b = p.b;
+        return done(protocol::ScalpelResult { effect_tick(), 0 });
+    }
+    const std::uint32_t added = queue_sweep(*stroke, p.a, p.b, client, p.stroke);
     if (reply_expected && added > 0) {
         // A request wants the outcome: cut now. On failure the sample is taken back (the
         // stroke continues from the previous one), so the state is as before the request.
@@ -488,10 +505,13 @@ ApplyOutcome Session::scalpel(
 }
 
 ApplyOutcome Session::end_stroke(const protocol::EndStrokeParams& p, std::string_view client) {
-    const Stroke* stroke = m_strokes.find(client, p.stroke);
+    Stroke* stroke = m_strokes.find(client, p.stroke);
     if (stroke == nullptr) {
         return make_error(ErrorCode::NotFound, "/params/stroke",
             "no open stroke " + std::to_string(p.stroke) + " for this client");
+    }
+    if (stroke->held) {
+        queue_sweep(*stroke, stroke->held_a, stroke->held_b, client, p.stroke);
     }
     const std::uint32_t total = stroke->triangles;
     m_strokes.close(client, p.stroke);
@@ -500,6 +520,12 @@ ApplyOutcome Session::end_stroke(const protocol::EndStrokeParams& p, std::string
     if (auto own = take_rejection(client, p.stroke)) {
         return *own;
     }
+    try {
+        m_sim->end_stroke();
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::CutRejected, "/params/stroke", e.what());
+    }
+    m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
     return done(protocol::CutResult { effect_tick(), m_sim->topology_version(), total });
 }
 
@@ -542,6 +568,9 @@ std::uint64_t Session::state_hash() const {
         mix_value(key.second);
         mix(s.a.data(), sizeof s.a);
         mix(s.b.data(), sizeof s.b);
+        mix_value(s.held);
+        mix(s.held_a.data(), sizeof s.held_a);
+        mix(s.held_b.data(), sizeof s.held_b);
         mix_value(s.triangles);
     }
     return h;

@@ -140,6 +140,10 @@ private:
         const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer);
     void install(std::unique_ptr<sim::Simulation> sim, std::string name);
     void prune_expired_forces();
+    /// Queues the sweep of `stroke` from its last swept sample to (a, b) and makes (a, b) the
+    /// last swept sample; returns the triangles queued (0 to 2).
+    std::uint32_t queue_sweep(Stroke& stroke, const protocol::Vector3& a,
+        const protocol::Vector3& b, std::string_view client, std::uint64_t id);
     /// Removes and returns the pending rejection of `stroke` (the caller answers it itself).
     std::optional<protocol::RpcError> take_rejection(std::string_view client, std::uint64_t stroke);
 

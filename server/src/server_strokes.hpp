@@ -23,8 +23,12 @@ struct StrokeLimits {
 
 /// One open stroke.
 struct Stroke {
-    protocol::Vector3 a {}; ///< last blade sample, endpoint a [m]
-    protocol::Vector3 b {}; ///< last blade sample, endpoint b [m]
+    protocol::Vector3 a {}; ///< last blade sample swept to, endpoint a [m]
+    protocol::Vector3 b {}; ///< last blade sample swept to, endpoint b [m]
+    /// The newest sample when the blade has not yet moved far enough from (a, b) to be swept
+    /// (Simulation::blade_min_advance); swept by the next sample or end_stroke.
+    bool held = false;
+    protocol::Vector3 held_a {}, held_b {}; ///< [m]
     std::uint32_t triangles = 0; ///< sweep triangles applied so far
     double last_used_s = 0.0; ///< monotonic wall time of the last sample [s]
 };

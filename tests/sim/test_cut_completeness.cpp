@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -122,9 +123,8 @@ const std::vector<std::string> kOpen = { "snap_kuhn_between_planes", "snap_kuhn_
     "snap_kuhn_fast", "snap_kuhn_slow", "snap_five_between_planes", "snap_five_near_a_plane",
     "snap_five_ending_in_a_cell", "snap_five_fast", "snap_five_slow", "split_kuhn_plane_of_faces",
     "split_kuhn_near_a_plane", "split_kuhn_along_edges", "split_kuhn_slow",
-    "split_five_plane_of_faces", "split_five_between_planes", "split_five_along_edges",
-    "split_five_slow", "split_hex_plane_of_faces", "split_hex_between_planes",
-    "split_hex_near_a_plane", "split_hex_along_edges", "split_hex_ending_in_a_cell",
+    "split_five_plane_of_faces", "split_five_along_edges", "split_five_slow",
+    "split_hex_plane_of_faces", "split_hex_near_a_plane", "split_hex_along_edges",
     "split_hex_slow" };
 
 struct Case {
@@ -144,12 +144,12 @@ std::vector<Case> cases() {
                 continue; // face snapping is for tet meshes
             const char* g = grid == Grid::KuhnTet ? "kuhn" : grid == Grid::FiveTet ? "five" : "hex";
             auto add = [&](const std::string& what, std::vector<std::vector<Blade>> strokes) {
-                std::string name = std::string(split ? "split_" : "snap_") + g + "_" + what;
-                // Cases that still fail (issue 12, open): run them with
-                // --gtest_also_run_disabled_tests.
-                if (std::find(kOpen.begin(), kOpen.end(), name) != kOpen.end())
-                    name = "DISABLED_" + name;
-                out.push_back({ name, grid, split, std::move(strokes) });
+                const std::string name = std::string(split ? "split_" : "snap_") + g + "_" + what;
+                // Cases that still fail (issue 12, open) run only with POLYCUT_OPEN_CASES=1
+                // (ctest would run DISABLED_ parameter instances).
+                const bool open = std::find(kOpen.begin(), kOpen.end(), name) != kOpen.end();
+                if (!open || std::getenv("POLYCUT_OPEN_CASES"))
+                    out.push_back({ name, grid, split, std::move(strokes) });
             };
             // In a plane of grid faces, between planes, and near one.
             add("plane_of_faces", { stroke(0.0, -0.03, 0.03, depth, above, 31) });

@@ -114,7 +114,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // rest, and does not re-split the cells along its crack into slivers every tick (the fits of
     // successive ticks differ by a small fraction of a cell). A curved stroke leaves the plane
     // as soon as it bends by more than that.
-    constexpr double kStrokePlane = 0.02;
+    constexpr double kStrokePlane = 0.05;
     // A blade whose rest triangle lies within kFacePlane x (mean cell size) of the plane of a
     // face of the cells it meets is put into that plane (see snap_to_face_plane).
     constexpr double kFacePlane = 0.02;
@@ -177,8 +177,15 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                 if (!known[k]) {
                     r[k] = Ainv * (tri[k] - fit.t);
                     if (previous) {
+                        // In the previous triangle's plane in world space (a straight stroke),
+                        // or close to its rest plane: onto that rest plane. The first test
+                        // does not depend on the fit, which extrapolates for corners outside
+                        // the tissue and errs by a few percent of a cell on a sagging body.
+                        const double dw
+                            = previous->world_normal.dot(tri[k]) - previous->world_offset;
                         const double d = previous->normal.dot(r[k]) - previous->offset;
-                        if (std::abs(d) <= kStrokePlane * cell_size)
+                        if (std::abs(dw) <= kStrokePlane * cell_size
+                            || std::abs(d) <= kStrokePlane * cell_size)
                             r[k] -= d * previous->normal;
                     }
                 }
@@ -193,9 +200,11 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
             continue;
         }
         const Vec3 n = normal.normalized();
+        const Vec3 world_n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
         for (std::size_t k = 0; k < 3; ++k)
             if (!known[k])
-                s.stroke_corners.push_back({ tri[k], r[k], n, n.dot(r[k]) });
+                s.stroke_corners.push_back(
+                    { tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
         rest.push_back(r);
     }
     // Only the recent corners can be shared by the next triangles.
@@ -252,6 +261,14 @@ void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
                 "cell " + std::to_string(c) + " has rest volume " + std::to_string(v)
                     + " m^3 after the cut");
     }
+}
+
+double Simulation::blade_min_advance() const {
+    const Impl& s = *m_impl;
+    if (s.scene.cutting.method == "snap")
+        return 0.0;
+    constexpr double kMinAdvance = 0.25; // of the mean cell size
+    return kMinAdvance * s.initial_cell_size;
 }
 
 void Simulation::end_stroke() {

@@ -51,6 +51,8 @@ struct Simulation::Impl {
         Vec3 rest; ///< [m]
         Vec3 normal; ///< unit normal of the rest plane
         double offset = 0; ///< normal . x of the rest plane [m]
+        Vec3 world_normal = Vec3::Zero(); ///< unit normal of the world triangle that mapped it
+        double world_offset = 0; ///< world_normal . x of that triangle's plane [m]
     };
     /// Corners of the current stroke (cleared by end_stroke() and reset()). A corner the blade
     /// shares with an earlier triangle reuses its rest image, so consecutive triangles meet
@@ -96,6 +98,7 @@ struct Simulation::Impl {
     surface::Topology topology;
     std::uint64_t topology_version = 1;
     double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
+    double initial_cell_size = 0; ///< cube root of the uncut mesh's mean cell volume [m]
     std::vector<Vec3> positions; ///< world positions (#N) [m], mirror of state.x
 
     void build();

@@ -35,6 +35,8 @@ bool Simulation::is_static() const {
 void Simulation::Impl::build() {
     cut_undo.reset();
     swept_area = 0;
+    initial_cell_size = std::cbrt(
+        initial_mesh.rest_volume() / double(std::max<Index>(1, initial_mesh.num_cells())));
     mesh = initial_mesh;
     node_fixed_mask = fixed_dofs_from_scene(scene, mesh);
     scene_forces = scene_loads(scene, mesh);

@@ -160,8 +160,14 @@ public:
     /// or the model cannot carry out is undone and throws polycut::Error (nothing changed). A
     /// cut whose next step() fails is undone by that step (StepReport::cut_undone).
     CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles);
-    /// Ends the current scalpel stroke: the face-snapping cutter forgets the incomplete tets it
-    /// remembered between triangles (002 sec. 3.2.1). Cell splitting needs no such state.
+    /// How far a scalpel blade should move between the samples a client's stroke is swept
+    /// from [m]: cell splitting cuts strips at least a quarter of the mean cell size wide (one
+    /// sliver strip per tick from a slowly moving blade makes slivers, and costs a cut each);
+    /// 0 for face snapping, which keeps crossings between ticks.
+    double blade_min_advance() const;
+    /// Ends the current stroke: later triangles map to rest space afresh; with face snapping,
+    /// the faces it still held back are cut now. Throws polycut::Error (nothing changed) when
+    /// that cut fails; like a cut, it is undone by the next step() if that step fails.
     void end_stroke();
 
     /// Surface in the current configuration.
