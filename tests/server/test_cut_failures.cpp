@@ -6,6 +6,7 @@
 #include "polycut/cut/fault_injection.hpp"
 #include "server_fixture.hpp"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace polycut::server::testing {
@@ -118,6 +119,54 @@ TEST_P(CutFailures, ScalpelNotificationsAtTheTickPublishARejectedEvent) {
     client->notify(ScalpelParams { 9, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
     EXPECT_EQ(client->ok<CutResult>(EndStrokeParams { 9 }).triangles, 4u);
     EXPECT_GT(client->stats().topology_version, before.topology_version);
+}
+
+TEST_P(CutFailures, ACutWhoseStepExplodesIsUndoneAndItsStrokeHearsIt) {
+    // The stroke is cut when the grab request flushes it; the 1e9 N/m grab pulled 1 m away then
+    // makes the next step explode: that step undoes the cut, and the stroke gets a rejected
+    // event. The published frame is the uncut block (new topology version), bounded.
+    zmq::socket_t sub(context, zmq::socket_type::sub);
+    sub.set(zmq::sockopt::linger, 0);
+    sub.set(zmq::sockopt::rcvhwm, 10000);
+    sub.connect(server->stream());
+    sub.set(zmq::sockopt::subscribe, "");
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    const Stats before = client->stats();
+    client->notify(ScalpelParams { 4, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
+    client->notify(ScalpelParams { 4, { 0.012, 0.003, 0.03 }, { 0.012, 0.003, 0.008 } });
+    GrabParams g;
+    g.point = { 0.02, 0.02, 0.02 };
+    g.stiffness = 1e9;
+    const auto grab = client->ok<Created>(g);
+    EXPECT_GT(client->stats().topology_version, before.topology_version); // the cut is in
+    client->ok<Ack>(MoveGrabParams { grab.id, { 1.0, 0.02, 0.02 } });
+    client->ok<RunState>(StepParams { 1 });
+    std::optional<nlohmann::json> rejected;
+    std::optional<SurfaceFrame> last;
+    for (int k = 0; k < 40; ++k) {
+        const auto frames = recv_message(sub, std::chrono::milliseconds(500));
+        if (!frames) {
+            break;
+        }
+        auto decoded = decode_stream(*frames);
+        ASSERT_TRUE(decoded.ok());
+        if (const auto* e = std::get_if<Event>(&decoded.value()); e && e->kind == "rejected") {
+            rejected = nlohmann::json::parse(e->detail_json);
+        } else if (const auto* f = std::get_if<SurfaceFrame>(&decoded.value())) {
+            last = *f;
+        }
+    }
+    ASSERT_TRUE(rejected.has_value()) << "no rejected event";
+    EXPECT_EQ((*rejected)["stroke"], 4);
+    EXPECT_NE((*rejected)["reason"].get<std::string>().find("undone"), std::string::npos);
+    const Stats after = client->stats();
+    EXPECT_EQ(after.cell_count, before.cell_count); // uncut again
+    EXPECT_NE(after.topology_version, before.topology_version);
+    ASSERT_TRUE(last.has_value());
+    for (float x : last->positions) {
+        EXPECT_TRUE(std::isfinite(x));
+        EXPECT_LT(std::abs(x), 0.1f); // the 4 cm block, not the exploded step
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(BothCutters, CutFailures, ::testing::Values(false, true),
