@@ -116,7 +116,7 @@ void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
     m_sim = std::move(sim);
     m_scene_name = std::move(name);
     log_meshing(m_scene_name, m_sim->meshing_summary());
-    m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+    m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
     m_forces.clear();
     m_grabs.clear();
     m_strokes.clear();
@@ -203,10 +203,10 @@ sim::StepReport Session::step() {
                                                        : report.warnings.front())
                             + ")") });
             }
-            m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+            m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
         }
         if (report.topology_changed) {
-            m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+            m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
         }
         prune_expired_forces();
     } catch (const std::exception& e) {
@@ -346,7 +346,7 @@ ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
 
 ApplyOutcome Session::reset() {
     m_sim->reset();
-    m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+    m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
     m_forces.clear();
     m_grabs.clear();
     m_strokes.clear();
@@ -525,7 +525,7 @@ ApplyOutcome Session::end_stroke(const protocol::EndStrokeParams& p, std::string
     } catch (const std::exception& e) {
         return make_error(ErrorCode::CutRejected, "/params/stroke", e.what());
     }
-    m_cells = static_cast<std::uint32_t>(m_sim->mesh_stats().cells);
+    m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
     return done(protocol::CutResult { effect_tick(), m_sim->topology_version(), total });
 }
 

@@ -35,6 +35,43 @@ protected:
     }
     void TearDown() override { cut::inject_cut_failures(0); }
 
+    /// A subscriber to the whole stream, connected before the test's commands.
+    zmq::socket_t subscribe() {
+        zmq::socket_t sub(context, zmq::socket_type::sub);
+        sub.set(zmq::sockopt::linger, 0);
+        sub.set(zmq::sockopt::rcvhwm, 10000);
+        sub.connect(server->stream());
+        sub.set(zmq::sockopt::subscribe, "");
+        std::this_thread::sleep_for(std::chrono::milliseconds(200)); // the subscription travels
+        return sub;
+    }
+
+    /// What the stream said until it fell silent for half a second.
+    struct Heard {
+        std::optional<nlohmann::json> rejected; ///< detail of the last `rejected` event
+        std::optional<SurfaceFrame> last; ///< the last surface frame
+    };
+    static Heard listen(zmq::socket_t& sub) {
+        Heard heard;
+        for (int k = 0; k < 40; ++k) {
+            const auto frames = recv_message(sub, std::chrono::milliseconds(500));
+            if (!frames) {
+                break;
+            }
+            auto decoded = decode_stream(*frames);
+            EXPECT_TRUE(decoded.ok());
+            if (!decoded) {
+                break;
+            }
+            if (const auto* e = std::get_if<Event>(&decoded.value()); e && e->kind == "rejected") {
+                heard.rejected = nlohmann::json::parse(e->detail_json);
+            } else if (const auto* f = std::get_if<SurfaceFrame>(&decoded.value())) {
+                heard.last = *f;
+            }
+        }
+        return heard;
+    }
+
     SceneDir dir;
     zmq::context_t context { 1 };
     std::unique_ptr<RunningServer> server;
@@ -85,28 +122,13 @@ TEST_P(CutFailures, ScalpelRequestGetsAnErrorAndTheSampleIsTakenBack) {
 }
 
 TEST_P(CutFailures, ScalpelNotificationsAtTheTickPublishARejectedEvent) {
-    zmq::socket_t sub(context, zmq::socket_type::sub);
-    sub.set(zmq::sockopt::linger, 0);
-    sub.connect(server->stream());
-    sub.set(zmq::sockopt::subscribe, "event");
-    std::this_thread::sleep_for(std::chrono::milliseconds(200)); // the subscription travels
+    zmq::socket_t sub = subscribe();
     const Stats before = client->stats();
     client->notify(ScalpelParams { 9, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
     client->notify(ScalpelParams { 9, { 0.012, 0.003, 0.03 }, { 0.012, 0.003, 0.008 } });
     cut::inject_cut_failures(1);
     client->ok<RunState>(StepParams { 2 }); // the queued sweep is cut at the first tick
-    std::optional<nlohmann::json> rejected;
-    for (int k = 0; k < 20 && !rejected; ++k) {
-        const auto frames = recv_message(sub, std::chrono::milliseconds(1000));
-        if (!frames) {
-            break;
-        }
-        auto decoded = decode_stream(*frames);
-        ASSERT_TRUE(decoded.ok());
-        if (const auto* e = std::get_if<Event>(&decoded.value()); e && e->kind == "rejected") {
-            rejected = nlohmann::json::parse(e->detail_json);
-        }
-    }
+    const std::optional<nlohmann::json> rejected = listen(sub).rejected;
     ASSERT_TRUE(rejected.has_value()) << "no rejected event";
     EXPECT_EQ((*rejected)["method"], "scalpel");
     EXPECT_EQ((*rejected)["stroke"], 9);
@@ -125,12 +147,7 @@ TEST_P(CutFailures, ACutWhoseStepExplodesIsUndoneAndItsStrokeHearsIt) {
     // The stroke is cut when the grab request flushes it; the 1e9 N/m grab pulled 1 m away then
     // makes the next step explode: that step undoes the cut, and the stroke gets a rejected
     // event. The published frame is the uncut block (new topology version), bounded.
-    zmq::socket_t sub(context, zmq::socket_type::sub);
-    sub.set(zmq::sockopt::linger, 0);
-    sub.set(zmq::sockopt::rcvhwm, 10000);
-    sub.connect(server->stream());
-    sub.set(zmq::sockopt::subscribe, "");
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    zmq::socket_t sub = subscribe();
     const Stats before = client->stats();
     client->notify(ScalpelParams { 4, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
     client->notify(ScalpelParams { 4, { 0.012, 0.003, 0.03 }, { 0.012, 0.003, 0.008 } });
@@ -141,21 +158,9 @@ TEST_P(CutFailures, ACutWhoseStepExplodesIsUndoneAndItsStrokeHearsIt) {
     EXPECT_GT(client->stats().topology_version, before.topology_version); // the cut is in
     client->ok<Ack>(MoveGrabParams { grab.id, { 1.0, 0.02, 0.02 } });
     client->ok<RunState>(StepParams { 1 });
-    std::optional<nlohmann::json> rejected;
-    std::optional<SurfaceFrame> last;
-    for (int k = 0; k < 40; ++k) {
-        const auto frames = recv_message(sub, std::chrono::milliseconds(500));
-        if (!frames) {
-            break;
-        }
-        auto decoded = decode_stream(*frames);
-        ASSERT_TRUE(decoded.ok());
-        if (const auto* e = std::get_if<Event>(&decoded.value()); e && e->kind == "rejected") {
-            rejected = nlohmann::json::parse(e->detail_json);
-        } else if (const auto* f = std::get_if<SurfaceFrame>(&decoded.value())) {
-            last = *f;
-        }
-    }
+    const Heard heard = listen(sub);
+    const std::optional<nlohmann::json>& rejected = heard.rejected;
+    const std::optional<SurfaceFrame>& last = heard.last;
     ASSERT_TRUE(rejected.has_value()) << "no rejected event";
     EXPECT_EQ((*rejected)["stroke"], 4);
     EXPECT_NE((*rejected)["reason"].get<std::string>().find("undone"), std::string::npos);

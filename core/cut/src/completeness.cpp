@@ -60,7 +60,7 @@ double area_in_cell(const mesh::Mesh& m, Index c, const Triangle& t, const Vec3&
 
 } // namespace
 
-double area_inside(const mesh::Mesh& m, const Triangle& t) {
+double area_inside(const mesh::Mesh& m, std::span<const Index> cells, const Triangle& t) {
     geometry::Aabb box;
     for (const Vec3& p : t)
         box.extend(p);
@@ -69,7 +69,7 @@ double area_inside(const mesh::Mesh& m, const Triangle& t) {
         return 0.0;
     const Vec3 unit = normal.normalized();
     double area = 0;
-    for (Index c = 0; c < m.num_cells(); ++c) {
+    for (Index c : cells) {
         geometry::Aabb cb;
         for (Index n : m.cells[std::size_t(c)].nodes)
             cb.extend(m.rest[std::size_t(n)]);
@@ -79,11 +79,11 @@ double area_inside(const mesh::Mesh& m, const Triangle& t) {
     return area;
 }
 
-double area_inside(const mesh::Mesh& m, std::span<const Triangle> triangles) {
-    double area = 0;
-    for (const Triangle& t : triangles)
-        area += area_inside(m, t);
-    return area;
+double area_inside(const mesh::Mesh& m, const Triangle& t) {
+    std::vector<Index> all(std::size_t(m.num_cells()));
+    for (Index c = 0; c < m.num_cells(); ++c)
+        all[std::size_t(c)] = c;
+    return area_inside(m, all, t);
 }
 
 double cut_face_area(const mesh::Mesh& m) {

@@ -20,9 +20,7 @@ geometry::Aabb triangle_box(const std::array<Vec3, 3>& t) {
         b.extend(p);
     return b;
 }
-} // namespace
 
-namespace {
 /// The snapping rule for blades in planes of faces (issue 12 item 2): a blade meant to run in a
 /// plane of mesh faces (a grid plane, an earlier cut's face) arrives a few micrometres off it
 /// after the world-to-rest fit of a deforming body, and cutting there would leave sheets of
@@ -121,8 +119,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // Below this area (relative to L^2) or altitude (relative to L) a triangle cuts nothing; the
     // cutter rejects such rest triangles (CutOptions::min_area), so they are dropped here first.
     constexpr double kMinSweepArea = 2 * cut::CutOptions {}.min_area;
-    const double cell_size
-        = std::cbrt(s.mesh.rest_volume() / double(std::max<Index>(1, s.mesh.num_cells())));
+    const double cell_size = s.initial_cell_size; // tolerances do not shrink as cuts add cells
     const double same = 1e-9 * L;
     auto cached = [&](const Vec3& p) -> const Impl::StrokeCorner* {
         for (const Impl::StrokeCorner& c : s.stroke_corners)
@@ -227,7 +224,13 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         summary.cells_split = int(report.new_cells.size());
         summary.nodes_added = int(report.nodes_after - report.nodes_before);
         summary.topology_changed = report.topology_changed;
-        summary.swept_area = cut::area_inside(s.initial_mesh, rest);
+        if (!s.rest_locator) {
+            s.rest_locator = std::make_unique<cut::WorldToRest>(s.initial_mesh);
+            s.rest_locator->refit(s.initial_mesh.rest, false);
+        }
+        for (const cut::Triangle& t : rest)
+            summary.swept_area
+                += cut::area_inside(s.initial_mesh, s.rest_locator->candidates(triangle_box(t)), t);
         if (report.topology_changed) {
             s.resize_state_after_cut(report);
             s.check_cut_cells(report.changed_cells);

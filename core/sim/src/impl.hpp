@@ -62,6 +62,9 @@ struct Simulation::Impl {
     /// Uniform grid over the deformed cell bounds, refitted at each cut call: finds the cells a
     /// sweep triangle touches without scanning the mesh per triangle.
     std::unique_ptr<cut::WorldToRest> locator;
+    /// Uniform grid over the uncut mesh at rest (built on the first cut): the cells a rest sweep
+    /// triangle can meet, for the swept area inside the tissue.
+    std::unique_ptr<cut::WorldToRest> rest_locator;
     /// What a cut may change, kept so a failed cut can be undone.
     struct Snapshot {
         mesh::Mesh mesh;
@@ -98,7 +101,9 @@ struct Simulation::Impl {
     surface::Topology topology;
     std::uint64_t topology_version = 1;
     double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
-    double initial_cell_size = 0; ///< cube root of the uncut mesh's mean cell volume [m]
+    /// Cube root of the uncut mesh's mean cell volume [m]: the length the cut tolerances and the
+    /// blade's minimum advance are relative to.
+    double initial_cell_size = 0;
     std::vector<Vec3> positions; ///< world positions (#N) [m], mirror of state.x
 
     void build();

@@ -100,6 +100,10 @@ Vec3 Simulation::probe_displacement(const std::string& name) const {
     return near != kNone ? u(near) : Vec3::Zero();
 }
 
+Index Simulation::cell_count() const {
+    return m_impl->mesh.num_cells();
+}
+
 MeshStats Simulation::mesh_stats() const {
     const mesh::Mesh& m = m_impl->mesh;
     MeshStats st;

@@ -46,6 +46,7 @@ void Simulation::Impl::build() {
     cutter.reset();
     snap_cutter.reset();
     locator.reset();
+    rest_locator.reset();
     state = integrator->rest_state();
     forces.clear();
     grabs.clear();

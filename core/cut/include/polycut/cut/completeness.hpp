@@ -11,14 +11,15 @@
 
 namespace polycut::cut {
 
-/// Area [m^2] of the part of the rest-space triangle `t` inside the cells of `mesh` (convex
-/// cells, e.g. the uncut mesh: the triangle is clipped by each cell's face planes). Cells that
-/// share a face count the triangle's part in that face once per side; a triangle lying in an
-/// interior face is counted once.
-double area_inside(const mesh::Mesh& mesh, const Triangle& t);
+/// Area [m^2] of the part of the rest-space triangle `t` inside the cells `cells` of `mesh`
+/// (convex cells, e.g. the uncut mesh: the triangle is clipped by each cell's face planes). Pass
+/// at least every cell whose bounds meet the triangle's (e.g. from a cut::WorldToRest over the
+/// rest positions); others add nothing. A triangle lying in an interior face is counted once
+/// (for the face's owner), one lying in a skin face not at all.
+double area_inside(const mesh::Mesh& mesh, std::span<const Index> cells, const Triangle& t);
 
-/// Total area of `area_inside` over `triangles` [m^2] (overlaps counted as often as they occur).
-double area_inside(const mesh::Mesh& mesh, std::span<const Triangle> triangles);
+/// The same over all cells of `mesh`, O(cells).
+double area_inside(const mesh::Mesh& mesh, const Triangle& t);
 
 /// Rest-space area of the boundary faces tagged Cut [m^2]: both lips of every cut.
 double cut_face_area(const mesh::Mesh& mesh);

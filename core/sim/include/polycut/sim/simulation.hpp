@@ -179,6 +179,8 @@ public:
     /// Displacement [m] at a named probe (interpolated in the cell that contains it).
     Vec3 probe_displacement(const std::string& name) const;
     MeshStats mesh_stats() const;
+    /// Number of cells, O(1) (mesh_stats() checks the surface and counts components, O(mesh)).
+    Index cell_count() const;
     /// What meshing reported while the scene was built (meshed false if the geometry was not
     /// meshed by CGAL). Unchanged by reset() and cuts.
     const MeshingSummary& meshing_summary() const;
