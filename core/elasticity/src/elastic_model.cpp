@@ -6,6 +6,7 @@
 #include "polycut/elasticity/rotation.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 namespace polycut::elasticity {
 namespace {
@@ -301,6 +302,7 @@ void ElasticModel::rebuild_pattern() {
         if (ok)
             std::copy(blk, blk + 20, m_block_scatter.begin() + std::ptrdiff_t(20 * c));
     }
+    rebuild_partition();
     ++m_topology_version;
 }
 
@@ -313,27 +315,69 @@ solve::SparseMatrix ElasticModel::make_matrix() const {
     return A;
 }
 
-void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) {
-    double* Kvals = nullptr;
-    if (K) {
-        if (K->rows() != m_num_free || K->nonZeros() != Index(m_inner.size()) || !K->isCompressed())
-            *K = make_matrix();
-        std::fill(K->valuePtr(), K->valuePtr() + m_inner.size(), 0.0);
-        Kvals = K->valuePtr();
+void ElasticModel::set_threads(int threads) {
+    if (threads < 1)
+        throw InputError("threads", "must be at least 1");
+    if (threads == m_threads)
+        return;
+    m_threads = threads;
+    rebuild_partition();
+}
+
+void ElasticModel::rebuild_partition() {
+    const std::size_t count = m_cells.size();
+    const int T = std::max(m_threads, 1);
+    m_thread_cells.assign(std::size_t(T), {});
+    m_shared_cells.clear();
+    if (T == 1) {
+        m_thread_cells[0].resize(count);
+        std::iota(m_thread_cells[0].begin(), m_thread_cells[0].end(), Index(0));
+        return;
     }
-    double* fint = nullptr;
-    if (f_int) {
-        f_int->setZero(3 * x.rows());
-        fint = f_int->data();
+    Index nodes = 0;
+    for (const CellData& cd : m_cells)
+        for (Index i : cd.nodes)
+            nodes = std::max(nodes, i + 1);
+    // Node ranges [bound[t], bound[t + 1]) holding ~count / T cells each by their first node.
+    std::vector<long> per_node(std::size_t(nodes) + 1, 0);
+    for (const CellData& cd : m_cells)
+        if (!cd.nodes.empty())
+            ++per_node[std::size_t(*std::min_element(cd.nodes.begin(), cd.nodes.end()))];
+    std::vector<Index> bound(std::size_t(T) + 1, nodes);
+    bound.front() = 0;
+    long seen = 0;
+    int t = 1;
+    for (Index i = 0; i < nodes && t < T; ++i) {
+        seen += per_node[std::size_t(i)];
+        while (t < T && seen * T >= long(count) * t)
+            bound[std::size_t(t++)] = i + 1;
     }
-    const bool corotated = mode == ForceMode::Corotated;
+    const auto owner = [&](Index i) {
+        return int(std::upper_bound(bound.begin(), bound.end(), i) - bound.begin()) - 1;
+    };
+    for (std::size_t c = 0; c < count; ++c) {
+        const auto& n = m_cells[c].nodes;
+        if (n.empty())
+            continue;
+        const auto [lo, hi] = std::minmax_element(n.begin(), n.end());
+        const int a = owner(*lo);
+        if (a == owner(*hi) && a >= 0 && a < T)
+            m_thread_cells[std::size_t(a)].push_back(Index(c));
+        else
+            m_shared_cells.push_back(Index(c));
+    }
+}
+
+void ElasticModel::assemble_cells(
+    const std::vector<Index>& cells, const MatX3& x, bool corotated, double* Kvals, double* fint) {
     const double lambda = m_material.lambda(), mu = m_material.mu();
     double ubuf[24], fbuf[24];
     std::vector<double> ubig, fbig;
     // P1 tets go through the batched kernel kP1Lanes at a time (p1_batch.hpp).
     detail::P1TetView batch[detail::kP1Lanes];
     int pending = 0;
-    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+    for (const Index cell : cells) {
+        const std::size_t c = std::size_t(cell);
         const CellData& cd = m_cells[c];
         const int n = int(cd.nodes.size());
         const int* sc = m_scatter.data() + m_scatter_offset[c];
@@ -361,6 +405,44 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
     }
     if (pending > 0)
         detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
+}
+
+void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) {
+    double* Kvals = nullptr;
+    if (K) {
+        if (K->rows() != m_num_free || K->nonZeros() != Index(m_inner.size()) || !K->isCompressed())
+            *K = make_matrix();
+        Kvals = K->valuePtr();
+    }
+    double* fint = nullptr;
+    if (f_int) {
+        f_int->setZero(3 * x.rows());
+        fint = f_int->data();
+    }
+    const bool corotated = mode == ForceMode::Corotated;
+    const int T = int(m_thread_cells.size());
+    const std::ptrdiff_t nnz = std::ptrdiff_t(m_inner.size());
+    if (T <= 1) {
+        if (Kvals)
+            std::fill(Kvals, Kvals + nnz, 0.0);
+        if (T == 1)
+            assemble_cells(m_thread_cells[0], x, corotated, Kvals, fint);
+        return;
+    }
+    // One list per loop index whatever the team size OpenMP grants: each list is assembled
+    // once, serially, so the order of every sum depends on T only.
+#pragma omp parallel num_threads(T)
+    {
+        if (Kvals) {
+#pragma omp for schedule(static)
+            for (int t = 0; t < T; ++t)
+                std::fill(Kvals + nnz * t / T, Kvals + nnz * (t + 1) / T, 0.0);
+        }
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < T; ++t)
+            assemble_cells(m_thread_cells[std::size_t(t)], x, corotated, Kvals, fint);
+    }
+    assemble_cells(m_shared_cells, x, corotated, Kvals, fint);
 }
 
 double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {

@@ -16,6 +16,7 @@ Integrator::Integrator(elasticity::ElasticModel& model, const IntegratorOptions&
     : m_model(&model)
     , m_options(options)
     , m_solver(options.solver) {
+    model.set_threads(std::max(options.threads, 1));
     if (options.solver.kind == LinearSolverKind::PcgLagged) {
         // The factor-preconditioned PCG never refactors on its own schedule (lagged_solve()
         // does, off the tick); it only factors in the foreground on the very first solve and

@@ -137,6 +137,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
         g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
         g.optimize = parse_optimize(r, g.optimize);
+        g.node_order = r.choice("node_order", g.node_order, { "rcm", "mesher" });
         g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
     } else if (type == "convex_hull") {
         parse_convex_hull(r, g);
@@ -150,6 +151,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
             g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
             g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
             g.optimize = parse_optimize(r, g.optimize);
+            g.node_order = r.choice("node_order", g.node_order, { "rcm", "mesher" });
             g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
             parse_surface_repair(r, g);
         }
@@ -189,6 +191,7 @@ Integrator parse_integrator(const json& j, const std::string& ptr) {
     it.static_mode = r.choice("static_mode", it.static_mode, { "newton", "fixed_point" });
     it.tolerance = r.number("tolerance", it.tolerance, 0, 1, true);
     it.max_iterations = int(r.integer("max_iterations", it.max_iterations, 1, 100000));
+    it.threads = int(r.integer("threads", it.threads, 1, 256));
     r.finish();
     return it;
 }
@@ -205,6 +208,16 @@ Solver parse_solver(const json& j, const std::string& ptr) {
     s.refactor_iterations
         = int(r.integer("refactor_iterations", s.refactor_iterations, 0, 1000000));
     s.warm_start = r.choice("warm_start", s.warm_start, { "previous", "extrapolated" });
+    if (r.has("amg")) {
+        ObjectReader a(r.get("amg"), r.child("amg"));
+        s.amg_strong_threshold = a.number("strong_threshold", s.amg_strong_threshold, 0, 1, true);
+        s.amg_aggressive_levels
+            = int(a.integer("aggressive_levels", s.amg_aggressive_levels, 0, 10));
+        s.amg_interpolation_max_elements = int(
+            a.integer("interpolation_max_elements", s.amg_interpolation_max_elements, 0, 100));
+        s.amg_rigid_body_modes = a.boolean("rigid_body_modes", s.amg_rigid_body_modes);
+        a.finish();
+    }
     r.finish();
     return s;
 }

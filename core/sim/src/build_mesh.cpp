@@ -7,6 +7,7 @@
 #include "polycut/cut/random_planes.hpp"
 #include "polycut/mesh/builders.hpp"
 #include "polycut/mesh/io.hpp"
+#include "polycut/mesh/reorder.hpp"
 #include "polycut/mesh/validate.hpp"
 #include "polycut/meshing/convex_hull.hpp"
 #include "polycut/meshing/implicit.hpp"
@@ -212,9 +213,13 @@ mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
     }
     case scene::Geometry::Kind::Implicit:
         m = implicit_mesh(g, meshed);
+        if (g.node_order == "rcm")
+            mesh::reorder_for_locality(m); // Mesh_3 numbers nodes in insertion order (issue 18)
         break;
     case scene::Geometry::Kind::SurfaceFile:
         m = surface_file_mesh(s, meshed);
+        if (g.node_order == "rcm")
+            mesh::reorder_for_locality(m);
         break;
     case scene::Geometry::Kind::MeshFile:
         m = mesh::read_volume_mesh(resolve(s, g.path));

@@ -147,6 +147,11 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.refactor_every = sv.refactor_every;
     o.solver.refactor_iterations = sv.refactor_iterations;
     o.extrapolate_warm_start = sv.warm_start == "extrapolated";
+    o.solver.amg.strong_threshold = sv.amg_strong_threshold;
+    o.solver.amg.aggressive_levels = sv.amg_aggressive_levels;
+    o.solver.amg.interpolation_max_elements = sv.amg_interpolation_max_elements;
+    o.solver.amg.rigid_body_modes = sv.amg_rigid_body_modes;
+    o.threads = it.threads;
     return o;
 }
 

@@ -88,6 +88,18 @@ public:
     /// Incremented whenever the pattern (and DOF numbering) changes.
     std::uint64_t topology_version() const { return m_topology_version; }
 
+    /// Threads for assemble() (>= 1; 1 = serial, the default). With T > 1 the nodes are split
+    /// into T ranges balanced by cell count; thread t assembles, in cell order, the cells whose
+    /// nodes all lie in its range (no two threads touch the same entry of K or f), then one
+    /// thread the cells across ranges. Every entry thus sums its terms in an order fixed by T:
+    /// results are deterministic for a given T, and T = 1 is the plain serial loop. Meshes
+    /// numbered for locality (mesh::reorder_for_locality, box grids) leave few cells across
+    /// ranges; after a cut, the new nodes' cells go to the serial part.
+    void set_threads(int threads);
+    int threads() const { return m_threads; }
+    /// Cells of the serial part of a threaded assembly (0 when serial), for reports and tests.
+    Index shared_cells() const { return Index(m_shared_cells.size()); }
+
 private:
     struct CellData {
         basis::CellIntegration integration;
@@ -108,6 +120,10 @@ private:
     void compute_cell(Index c);
     void rebuild_mass();
     void rebuild_pattern();
+    void rebuild_partition();
+    /// Assembles the listed cells (in order) into Kvals / fint (either may be null).
+    void assemble_cells(const std::vector<Index>& cells, const MatX3& x, bool corotated,
+        double* Kvals, double* fint);
 
     const mesh::Mesh* m_mesh;
     Material m_material;
@@ -131,6 +147,10 @@ private:
     /// detail::P1TetView::block); first entry -1 when the full scatter must be used.
     std::vector<int> m_block_scatter;
     std::uint64_t m_topology_version = 0;
+    int m_threads = 1;
+    /// Threaded assembly: cells per thread (all nodes in its range), then the rest (serial).
+    std::vector<std::vector<Index>> m_thread_cells;
+    std::vector<Index> m_shared_cells;
 };
 
 } // namespace polycut::elasticity

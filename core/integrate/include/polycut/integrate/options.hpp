@@ -76,6 +76,9 @@ struct IntegratorOptions {
     /// ImplicitEuler with PCG: start from the linear extrapolation 2 dv_{n-1} - dv_{n-2} of the
     /// last two velocity increments instead of dv_{n-1} (fewer iterations on smooth motion).
     bool extrapolate_warm_start = false;
+    /// Threads for assembly and the solver's matrix passes (1 = serial). A step's result is
+    /// deterministic for a given count; counts differ by the order of sums (round-off).
+    int threads = 1;
     SolverOptions solver;
 };
 

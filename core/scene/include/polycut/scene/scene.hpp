@@ -34,6 +34,9 @@ struct Geometry {
     /// that order); meshing::MeshingOptions
     std::vector<std::string> optimize { "perturb", "exude" };
     double sliver_bound = 0; ///< perturb/exude stop when every dihedral angle exceeds it [deg]
+    /// Implicit and SurfaceFile: node numbering, "rcm" (reverse Cuthill-McKee, cells sorted by
+    /// nodes; for locality) or "mesher" (as Mesh_3 inserted them)
+    std::string node_order = "rcm";
     // SurfaceFile: treatment of a surface that is not a clean closed manifold (meshing::repair)
     std::string repair = "auto"; ///< "auto", "none", "pmp" or "wrap"
     std::string components = "union"; ///< "union", "largest" or "refuse"
@@ -70,6 +73,9 @@ struct Integrator {
     std::string static_mode = "newton"; ///< static + corotated: "newton" or "fixed_point"
     double tolerance = 1e-8; ///< static: stop at ||r|| <= tol ||f_ext||
     int max_iterations = 100; ///< static: outer iterations
+    /// Threads for assembly and the solver's matrix passes (1 = serial). Results are
+    /// deterministic for a given count; different counts agree to round-off.
+    int threads = 1;
 };
 
 struct Solver {
@@ -85,6 +91,11 @@ struct Solver {
     /// implicit_euler with pcg / cg_relaxation: initial guess of the velocity increment dv,
     /// "previous" (dv_{n-1}) or "extrapolated" (2 dv_{n-1} - dv_{n-2})
     std::string warm_start = "previous";
+    /// amg: BoomerAMG set-up (solve::AmgOptions; defaults there)
+    double amg_strong_threshold = 0.5; ///< strength threshold theta in (0, 1)
+    int amg_aggressive_levels = 1; ///< levels coarsened aggressively
+    int amg_interpolation_max_elements = 4; ///< interpolation entries per row (0 = all)
+    bool amg_rigid_body_modes = false; ///< interpolate the rigid rotations too (GM-2)
 };
 
 /// Selects nodes by rest position.
