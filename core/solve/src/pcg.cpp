@@ -62,6 +62,9 @@ struct PcgSolver::Impl {
     CholmodSolver factor;
     int solves_since_refactor = 0;
     bool refactor_requested = false;
+    /// Iterations of the first solve after the last set-up of a lagged preconditioner (-1:
+    /// none yet): what a fresh one achieves on these systems
+    int fresh_iterations = -1;
     bool installed = false; ///< a factor was installed since the last solve
     int refactorizations = 0;
     std::unique_ptr<BackgroundCholesky> background;
@@ -322,6 +325,7 @@ void PcgSolver::reset() {
     m_impl->ic_size = -1;
     m_impl->solves_since_refactor = 0;
     m_impl->refactor_requested = false;
+    m_impl->fresh_iterations = -1;
     m_impl->installed = false;
     if (m_impl->background)
         m_impl->background->cancel();
@@ -379,7 +383,14 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     }
 
     ++impl.solves_since_refactor;
-    if (iterations_with_factor > impl.options.refactor_iterations)
+    // Set up again only when a solve needs more than refactor_iterations and clearly more than
+    // a fresh set-up did: where even a fresh hierarchy needs more than the threshold (organ
+    // meshes, issue 18), a set-up after every solve bought nothing but the set-up.
+    if (result.refactored && lagged)
+        impl.fresh_iterations = iterations_with_factor;
+    const double grown = impl.options.refactor_growth * double(impl.fresh_iterations);
+    if (iterations_with_factor > impl.options.refactor_iterations
+        && double(iterations_with_factor) > grown)
         impl.refactor_requested = true;
     // iterate() leaves r = b - A x (recomputed at its start, then updated with x): the recursive
     // residual, equal to the true one up to round-off, without another SpMV

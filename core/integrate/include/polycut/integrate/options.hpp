@@ -49,6 +49,8 @@ struct SolverOptions {
     /// (0 = on demand)
     int refactor_every = 0;
     /// PcgLagged, PcgIncompleteCholesky, PcgAmg: refactor when a solve took more iterations
+    /// (PcgAmg: and more than 1.5x the first solve after the last set-up,
+    /// solve::PcgOptions::refactor_growth)
     int refactor_iterations = 50;
     bool background_refactor = false; ///< PcgLagged: refactor on a worker thread
     /// PcgAmg: hierarchy settings (with rigid_body_modes the integrator passes the current node

@@ -28,8 +28,13 @@ struct PcgOptions {
     /// LaggedCholesky, IncompleteCholesky, Amg: refactor (AMG: redo the set-up) every this many
     /// solves (0 = only when needed)...
     int refactor_every = 0;
-    /// ...or when a solve needed more iterations than this.
+    /// ...or when a solve needed more iterations than this and more than refactor_growth times
+    /// the first solve after the last set-up.
     int refactor_iterations = 50;
+    /// LaggedCholesky (foreground), Amg: a solve must also take more than this factor times the
+    /// iterations of the first solve after the last set-up to ask for a new one, so a fresh
+    /// factor or hierarchy that does no better is kept (0 = refactor_iterations alone).
+    double refactor_growth = 1.5;
     /// Amg: hierarchy settings.
     AmgOptions amg {};
     /// LaggedCholesky: refactor on a worker thread (BackgroundCholesky) instead of inside
