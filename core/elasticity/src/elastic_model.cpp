@@ -6,6 +6,8 @@
 #include "polycut/elasticity/rotation.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace polycut::elasticity {
@@ -111,6 +113,9 @@ void ElasticModel::compute_cell(Index c) {
     for (const Vec3& p : X)
         Xc += p;
     Xc /= double(X.size());
+    cd.rest_extent2 = 0;
+    for (const Vec3& p : X)
+        cd.rest_extent2 = std::max(cd.rest_extent2, (p - X.front()).squaredNorm());
     cd.rest_local.resize(Index(X.size()), 3);
     for (std::size_t i = 0; i < X.size(); ++i)
         cd.rest_local.row(Index(i)) = (X[i] - Xc).transpose();
@@ -443,6 +448,33 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
             assemble_cells(m_thread_cells[std::size_t(t)], x, corotated, Kvals, fint);
     }
     assemble_cells(m_shared_cells, x, corotated, Kvals, fint);
+}
+
+double ElasticModel::max_cell_stretch(const MatX3& x) const {
+    // Squared ratios, one square root at the end; max is order-independent, so the result does
+    // not depend on the thread count.
+    const auto cells = std::ptrdiff_t(m_cells.size());
+    double worst2 = 1.0;
+#pragma omp parallel for num_threads(m_threads) schedule(static)                                   \
+    reduction(max                                                                                  \
+              : worst2) if (m_threads > 1)
+    for (std::ptrdiff_t c = 0; c < cells; ++c) {
+        const CellData& cd = m_cells[std::size_t(c)];
+        if (cd.nodes.size() < 2 || !(cd.rest_extent2 > 0))
+            continue;
+        const double* xa = x.data() + 3 * cd.nodes.front();
+        double now = 0;
+        for (std::size_t k = 1; k < cd.nodes.size(); ++k) {
+            const double* xb = x.data() + 3 * cd.nodes[k];
+            const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
+            now = std::max(now, dx * dx + dy * dy + dz * dz);
+        }
+        // NaN positions must show as an explosion
+        const double ratio = now / cd.rest_extent2;
+        worst2
+            = std::isnan(ratio) ? std::numeric_limits<double>::infinity() : std::max(worst2, ratio);
+    }
+    return std::sqrt(worst2);
 }
 
 double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {

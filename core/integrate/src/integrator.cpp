@@ -467,25 +467,9 @@ double Integrator::max_cell_stretch(const MatX3& x) const {
     // Per cell, the largest distance from its first node to another node, deformed over rest:
     // 1 under rigid motion, growing without bound in an exploding step. Measured against the
     // cell's extent rather than per node pair, so nodes a cut left close together do not make
-    // tiny, harmless motions look like stretch. O(cell nodes), no allocation.
-    const mesh::Mesh& m = m_model->mesh();
-    double worst = 1.0;
-    for (const mesh::Cell& c : m.cells) {
-        if (c.nodes.size() < 2)
-            continue;
-        const Index a = c.nodes.front();
-        const Vec3 Xa = m.rest[std::size_t(a)];
-        const Vec3 xa = x.row(a).transpose();
-        double rest = 0, now = 0;
-        for (std::size_t k = 1; k < c.nodes.size(); ++k) {
-            const Index b = c.nodes[k];
-            rest = std::max(rest, (m.rest[std::size_t(b)] - Xa).squaredNorm());
-            now = std::max(now, (x.row(b).transpose() - xa).squaredNorm());
-        }
-        if (rest > 0 && now > worst * worst * rest)
-            worst = std::sqrt(now / rest);
-    }
-    return worst;
+    // tiny, harmless motions look like stretch. The model caches the rest extents and splits
+    // the cells over its threads.
+    return m_model->max_cell_stretch(x);
 }
 
 double Integrator::energy(const State& s) const {

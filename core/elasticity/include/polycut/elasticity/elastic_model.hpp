@@ -72,6 +72,11 @@ public:
     /// as the forces (Corotated: rotations of x, warm-started from the cached ones).
     double elastic_energy(const MatX3& x, ForceMode mode) const;
 
+    /// Largest stretch of a cell at positions x (#N x 3) [m]: per cell, the longest distance from
+    /// its first node to its other nodes, deformed over the same at rest (1 under rigid motion);
+    /// 1 when no cell is stretched. Rest extents are cached with the cell data; uses threads().
+    double max_cell_stretch(const MatX3& x) const;
+
     /// Gathers the free entries of a full DOF vector (3#N) into a reduced one (#free).
     void reduce(const VecX& full, VecX& reduced) const;
     /// Scatters a reduced vector into the free entries of a full one (fixed entries untouched).
@@ -107,6 +112,7 @@ private:
         MatX stiffness; ///< Ke (3n x 3n)
         MatX3 fit; ///< fit gradients G (n x 3)
         MatX3 rest_local; ///< X_i - X_c (n x 3)
+        double rest_extent2 = 0; ///< max_k |X_k - X_0|^2 over the cell's nodes [m^2]
     };
     /// Compact data of a one-point 4-node cell (P1 tet) for the closed-form corotated kernel:
     /// blocks R Ke_ij R^T = V (lambda r_i r_j^T + mu r_j r_i^T + mu g_i.g_j I), r_i = R g_i.
