@@ -12,10 +12,17 @@ namespace polycut::integrate {
 
 using elasticity::ForceMode;
 
+namespace {
+SolverOptions with_threads(SolverOptions s, int threads) {
+    s.threads = std::max(threads, 1);
+    return s;
+}
+} // namespace
+
 Integrator::Integrator(elasticity::ElasticModel& model, const IntegratorOptions& options)
     : m_model(&model)
     , m_options(options)
-    , m_solver(options.solver) {
+    , m_solver(with_threads(options.solver, options.threads)) {
     model.set_threads(std::max(options.threads, 1));
     if (options.solver.kind == LinearSolverKind::PcgLagged) {
         // The factor-preconditioned PCG never refactors on its own schedule (lagged_solve()
@@ -28,6 +35,7 @@ Integrator::Integrator(elasticity::ElasticModel& model, const IntegratorOptions&
         p.refactor_every = 0;
         p.refactor_iterations = INT_MAX;
         p.background_refactor = false;
+        p.threads = std::max(options.threads, 1);
         m_lagged = std::make_unique<solve::PcgSolver>(p);
         p.preconditioner = solve::Preconditioner::BlockJacobi3;
         m_bridge = std::make_unique<solve::PcgSolver>(p);
@@ -235,7 +243,7 @@ bool Integrator::step_implicit(State& s, StepReport& report) {
     // A = cK K + cM M and K v in one pass over K
     const double cK = h * beta + h * h, cM = 1.0 + h * alpha;
     m_shift = cM * M;
-    solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp);
+    solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());
     m_rhs = h * (m_fext_r + m_fint_r - alpha * M.cwiseProduct(m_v_r) - (beta + h) * m_tmp);
     if (!m_rhs.allFinite()) {
         report.status = solve::SolveStatus::NonFinite;

@@ -10,6 +10,7 @@ solve::PcgOptions pcg_options(const SolverOptions& o) {
     p.refactor_iterations = o.refactor_iterations;
     p.background_refactor = o.background_refactor;
     p.amg = o.amg;
+    p.threads = o.threads;
     switch (o.kind) {
     case LinearSolverKind::PcgBlockJacobi:
         p.preconditioner = solve::Preconditioner::BlockJacobi3;

@@ -133,6 +133,9 @@ bool AmgCycle::finish(const SparseMatrix& A) {
     }
     m_fine_residual.setZero(n);
     m_fine_inverse_diagonal.setZero(n);
+    m_A = &A;
+    find_block_slots();
+    m_A = nullptr;
     // the coarsest operator (the fine matrix itself when there is no coarse level)
     Eigen::MatrixXd dense;
     if (m_levels.empty() && n > 4000)
@@ -172,8 +175,13 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
         a = view(m_levels[l - 1].A, m_levels[l - 1].inverse_diagonal);
         r = m_levels[l - 1].r.data();
     }
-    forward_from_zero(a, b, x);
-    upper_residual(a, x, r);
+    const bool hybrid = l == 0 && m_threads > 1;
+    if (hybrid)
+        fine_down_hybrid(b, x);
+    else {
+        forward_from_zero(a, b, x);
+        upper_residual(a, x, r);
+    }
     // restrict to the next level: b_c = P^T r (P: rows of this level x rows of the next)
     Level& next = m_levels[l];
     const SortedCsr& P = next.P;
@@ -186,13 +194,17 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
     }
     cycle(l + 1, next.b.data(), next.x.data());
     const double* xc = next.x.data();
+#pragma omp parallel for num_threads(m_threads) schedule(static) if (hybrid)
     for (int i = 0; i < P.rows; ++i) {
         double s = 0;
         for (int k = P.ptr[std::size_t(i)]; k < P.ptr[std::size_t(i) + 1]; ++k)
             s += P.value[std::size_t(k)] * xc[P.column[std::size_t(k)]];
         x[i] += s;
     }
-    backward(a, b, x);
+    if (hybrid)
+        fine_up_hybrid(b, x);
+    else
+        backward(a, b, x);
 }
 
 bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
@@ -216,12 +228,95 @@ bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
         if (!finish(*matrix))
             return false;
     m_A = matrix;
+    if (m_block_rows.size() != std::size_t(m_threads) + 1)
+        find_block_slots();
     const double* values = matrix->valuePtr();
     for (long i = 0; i < m_fine_rows; ++i)
         m_fine_inverse_diagonal[i] = 1.0 / values[m_fine_diagonal[std::size_t(i)]];
     cycle(0, r.data(), z.data());
     m_A = nullptr;
     return true;
+}
+
+void AmgCycle::set_threads(int threads) {
+    m_threads = std::max(threads, 1);
+    m_block_rows.clear(); // the blocks are found again by the next apply()
+}
+
+void AmgCycle::find_block_slots() {
+    const int n = int(m_fine_rows);
+    const int T = m_threads;
+    m_block_rows.assign(std::size_t(T) + 1, n);
+    for (int t = 0; t < T; ++t)
+        m_block_rows[std::size_t(t)] = int(long(n) * t / T);
+    m_block_begin.resize(std::size_t(n));
+    m_block_end.resize(std::size_t(n));
+    m_cross.setZero(n);
+    const int* outer = m_A->outerIndexPtr();
+    const int* inner = m_A->innerIndexPtr();
+    for (int t = 0; t < T; ++t) {
+        const int lo = m_block_rows[std::size_t(t)], hi = m_block_rows[std::size_t(t) + 1];
+        for (int i = lo; i < hi; ++i) {
+            const int* begin = inner + outer[i];
+            const int* end = inner + outer[i + 1];
+            m_block_begin[std::size_t(i)] = int(std::lower_bound(begin, end, lo) - inner);
+            m_block_end[std::size_t(i)] = int(std::lower_bound(begin, end, hi) - inner);
+        }
+    }
+}
+
+void AmgCycle::fine_down_hybrid(const double* b, double* x) {
+    const int T = m_threads;
+    const int* outer = m_A->outerIndexPtr();
+    const int* inner = m_A->innerIndexPtr();
+    const double* a = m_A->valuePtr();
+    const double* inv = m_fine_inverse_diagonal.data();
+    const int* diag = m_fine_diagonal.data();
+    double* r = m_fine_residual.data();
+#pragma omp parallel num_threads(T)
+    {
+        // forward Gauss-Seidel from zero inside each block (other blocks' x are still 0)
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < T; ++t)
+            for (int i = m_block_rows[std::size_t(t)]; i < m_block_rows[std::size_t(t) + 1]; ++i)
+                x[i] = (b[i] - row_dot(a, inner, x, m_block_begin[std::size_t(i)], diag[i]))
+                    * inv[i];
+                // r = b - A x: what the sweep did not use, the strict upper part and the other
+                // blocks' lower columns
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < T; ++t)
+            for (int i = m_block_rows[std::size_t(t)]; i < m_block_rows[std::size_t(t) + 1]; ++i)
+                r[i] = -(row_dot(a, inner, x, diag[i] + 1, outer[i + 1])
+                    + row_dot(a, inner, x, outer[i], m_block_begin[std::size_t(i)]));
+    }
+}
+
+void AmgCycle::fine_up_hybrid(const double* b, double* x) {
+    const int T = m_threads;
+    const int* outer = m_A->outerIndexPtr();
+    const int* inner = m_A->innerIndexPtr();
+    const double* a = m_A->valuePtr();
+    const double* inv = m_fine_inverse_diagonal.data();
+    const int* diag = m_fine_diagonal.data();
+    double* cross = m_cross.data();
+#pragma omp parallel num_threads(T)
+    {
+        // other blocks' columns at their values before the sweep (Jacobi across blocks)
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < T; ++t)
+            for (int i = m_block_rows[std::size_t(t)]; i < m_block_rows[std::size_t(t) + 1]; ++i)
+                cross[i] = row_dot(a, inner, x, outer[i], m_block_begin[std::size_t(i)])
+                    + row_dot(a, inner, x, m_block_end[std::size_t(i)], outer[i + 1]);
+                // backward Gauss-Seidel inside each block
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < T; ++t)
+            for (int i = m_block_rows[std::size_t(t) + 1] - 1; i >= m_block_rows[std::size_t(t)];
+                 --i) {
+                const double lower = row_dot(a, inner, x, m_block_begin[std::size_t(i)], diag[i]);
+                const double upper = row_dot(a, inner, x, diag[i] + 1, m_block_end[std::size_t(i)]);
+                x[i] = (b[i] - cross[i] - lower - upper) * inv[i];
+            }
+    }
 }
 
 void AmgCycle::clear() {

@@ -13,6 +13,14 @@
 // positive definite operator for any SPD coarse operators (forward and backward Gauss-Seidel are
 // adjoint, each convergent for SPD A), so PCG's theory holds although the coarse operators lag
 // behind the fine one.
+//
+// With T > 1 threads (set_threads) the finest level is split into T contiguous row blocks and
+// smoothed by hybrid Gauss-Seidel: Gauss-Seidel inside a block, Jacobi across blocks (entries
+// in other blocks' columns use the values from before the sweep). Forward down and backward up
+// stay adjoint (D + L_B and D + U_B = (D + L_B)^T with L_B the block-diagonal strict lower
+// part), so the cycle stays symmetric; on a mesh numbered for locality few entries cross
+// blocks and the smoother is nearly the serial one. The result depends on T only; T = 1 is
+// the serial cycle.
 #pragma once
 
 #include "polycut/solve/sparse.hpp"
@@ -49,6 +57,8 @@ public:
     /// its values may have changed, a changed pattern is detected and its diagonal slots found
     /// again). r, z: n. False if A has a missing or non-positive diagonal entry.
     bool apply(const SparseMatrix& A, const Vector& r, Vector& z);
+    /// Threads for the finest level (>= 1, see the file comment); takes effect at once.
+    void set_threads(int threads);
     /// Levels including the finest (0 before finish()).
     int levels() const { return m_ready ? int(m_levels.size()) + 1 : 0; }
     /// Unknowns of the fine matrix the cycle was finished for (-1 before finish()).
@@ -63,6 +73,12 @@ private:
         Vector b, x, r; ///< right-hand side, iterate, residual (n_l)
     };
     void cycle(std::size_t l, const double* b, double* x);
+    /// The finest level's down-sweep, residual and (after the coarse correction) up-sweep with
+    /// m_threads row blocks (hybrid Gauss-Seidel).
+    void fine_down_hybrid(const double* b, double* x);
+    void fine_up_hybrid(const double* b, double* x);
+    /// Per fine row, the slots of its own block's columns [m_block_begin, m_block_end).
+    void find_block_slots();
 
     std::vector<Level> m_levels; ///< coarse levels 1 .. L-1 (index l - 1)
     // finest level: slots of the current matrix
@@ -75,6 +91,10 @@ private:
     SparseMatrix m_compressed; ///< apply() on an uncompressed matrix: its compressed copy
     Eigen::LLT<Eigen::MatrixXd> m_coarsest;
     bool m_ready = false;
+    int m_threads = 1;
+    std::vector<int> m_block_rows; ///< T + 1 row bounds of the fine blocks
+    std::vector<int> m_block_begin, m_block_end; ///< fine rows: own-block column slots
+    Vector m_cross; ///< fine rows: sum over other blocks' columns before the up-sweep
 };
 
 } // namespace polycut::solve::detail

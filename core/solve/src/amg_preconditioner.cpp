@@ -50,6 +50,8 @@ struct AmgPreconditioner::Impl {
 
     ~Impl() { clear(); }
 
+    void set_threads(int threads) { cycle.set_threads(threads); }
+
     /// Frees the BoomerAMG solver and the rigid-body modes (lock held).
     void destroy_solver_locked() {
         if (amg)
@@ -342,6 +344,7 @@ struct AmgPreconditioner::Impl {
     explicit Impl(AmgOptions o)
         : options(o) { }
     void clear() { }
+    void set_threads(int) { }
     SolveStatus setup(const SparseMatrix&) { return SolveStatus::NotReady; }
     SolveStatus apply(const SparseMatrix&, const Vector&, Vector&) { return SolveStatus::NotReady; }
     int levels() const { return 0; }
@@ -360,6 +363,10 @@ SolveStatus AmgPreconditioner::setup(const SparseMatrix& A) {
 
 SolveStatus AmgPreconditioner::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
     return m_impl->apply(A, r, z);
+}
+
+void AmgPreconditioner::set_threads(int threads) {
+    m_impl->set_threads(threads);
 }
 
 long AmgPreconditioner::size() const {

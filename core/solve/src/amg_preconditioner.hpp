@@ -27,6 +27,9 @@ public:
     /// it). NotReady before a successful setup() or on size mismatch; NonFinite if z is not
     /// finite.
     SolveStatus apply(const SparseMatrix& A, const Vector& r, Vector& z);
+    /// Threads for the fused cycle's finest level (hybrid Gauss-Seidel, amg_cycle.hpp); 1 =
+    /// serial. hypre's own cycle stays serial.
+    void set_threads(int threads);
     /// Size of the matrix of the last successful setup (-1 if none).
     long size() const;
     /// Number of levels of the current hierarchy (0 if none).

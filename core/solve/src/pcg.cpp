@@ -79,6 +79,8 @@ struct PcgSolver::Impl {
     explicit Impl(PcgOptions o)
         : options(o)
         , amg(o.amg) {
+        options.threads = std::max(options.threads, 1);
+        amg.set_threads(options.threads);
         if (options.background_refactor)
             background = std::make_unique<BackgroundCholesky>();
     }
@@ -176,7 +178,7 @@ struct PcgSolver::Impl {
     /// PCG iterations from x; adds to `iterations`.
     SolveStatus iterate(const SparseMatrix& A, const Vector& b, Vector& x, double target,
         Preconditioner use, int& iterations) {
-        multiply_symmetric(A, x, q);
+        multiply_symmetric(A, x, q, options.threads);
         r = b - q;
         double r_norm = r.norm();
         if (!std::isfinite(r_norm))
@@ -190,7 +192,7 @@ struct PcgSolver::Impl {
         for (;;) {
             if (iterations >= options.max_iterations)
                 return SolveStatus::NotConverged;
-            multiply_symmetric(A, p, q);
+            multiply_symmetric(A, p, q, options.threads);
             const double pq = p.dot(q);
             if (!std::isfinite(pq))
                 return SolveStatus::NonFinite;

@@ -23,7 +23,7 @@ const char* to_string(SolveStatus s) {
 
 namespace polycut::solve {
 
-void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y) {
+void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y, int threads) {
     const long n = A.cols();
     y.resize(n);
     const int* outer = A.outerIndexPtr();
@@ -31,6 +31,7 @@ void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y) {
     const double* values = A.valuePtr();
     const int* counts = A.innerNonZeroPtr(); // null when compressed
     const double* xs = x.data();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
     for (long j = 0; j < n; ++j) {
         const int begin = outer[j];
         const int end = counts ? begin + counts[j] : outer[j + 1];
@@ -47,8 +48,8 @@ void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y) {
     }
 }
 
-void scale_shift_multiply(
-    const SparseMatrix& K, double a, const Vector& d, const Vector& x, SparseMatrix& A, Vector& y) {
+void scale_shift_multiply(const SparseMatrix& K, double a, const Vector& d, const Vector& x,
+    SparseMatrix& A, Vector& y, int threads) {
     const long n = K.cols();
     y.resize(n);
     const int* outer = K.outerIndexPtr();
@@ -57,6 +58,7 @@ void scale_shift_multiply(
     const int* counts = K.innerNonZeroPtr(); // null when compressed
     double* out = A.valuePtr();
     const double* xs = x.data();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
     for (long j = 0; j < n; ++j) {
         const int begin = outer[j];
         const int end = counts ? begin + counts[j] : outer[j + 1];

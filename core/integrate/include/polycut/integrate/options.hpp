@@ -56,6 +56,8 @@ struct SolverOptions {
     /// PcgAmg: hierarchy settings (with rigid_body_modes the integrator passes the current node
     /// positions of the free DOFs before each solve)
     solve::AmgOptions amg {};
+    /// Threads of the PCG matrix passes (Integrator sets it from IntegratorOptions::threads)
+    int threads = 1;
 };
 
 /// Integrator settings.

@@ -37,6 +37,10 @@ struct PcgOptions {
     double refactor_growth = 1.5;
     /// Amg: hierarchy settings.
     AmgOptions amg {};
+    /// Threads for the matrix passes: SpMV and, with Amg's fused cycle, the finest level's
+    /// smoother (hybrid Gauss-Seidel across T row blocks). Deterministic for a given count; 1 =
+    /// serial.
+    int threads = 1;
     /// LaggedCholesky: refactor on a worker thread (BackgroundCholesky) instead of inside
     /// solve(). Until the new factor is ready, solve() keeps using the old one, or
     /// BlockJacobi3 if the old one has the wrong size (after a cut).

@@ -24,14 +24,16 @@ const char* to_string(SolveStatus s);
 /// y = A x for a symmetric A in full storage, computed row-wise as y_j = A(:,j) . x (a gather:
 /// no scattered writes, one accumulator per row). A: n x n, x: n; y is resized to n (no
 /// allocation when it already has n rows). y must not alias x.
-void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y);
+/// threads > 1 splits the rows into static blocks (the same sums per row: the result does not
+/// depend on the count).
+void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y, int threads = 1);
 
 /// One pass over a symmetric K (full storage, n x n): A = a K + diag(d) on K's pattern and
 /// y = K x (as multiply_symmetric). A must have K's sparsity pattern, compressed like K (e.g. a
 /// copy of K); every diagonal entry must be stored. d, x: n; y is resized to n (no allocation
 /// when it already has n rows) and must not alias x. Reads K once instead of twice (the implicit
 /// Euler step's system matrix and its K v).
-void scale_shift_multiply(
-    const SparseMatrix& K, double a, const Vector& d, const Vector& x, SparseMatrix& A, Vector& y);
+void scale_shift_multiply(const SparseMatrix& K, double a, const Vector& d, const Vector& x,
+    SparseMatrix& A, Vector& y, int threads = 1);
 
 } // namespace polycut::solve
