@@ -113,9 +113,12 @@ void ElasticModel::compute_cell(Index c) {
     for (const Vec3& p : X)
         Xc += p;
     Xc /= double(X.size());
-    cd.rest_extent2 = 0;
+    if (m_rest_extent2.size() < m_cells.size())
+        m_rest_extent2.resize(m_cells.size());
+    double extent2 = 0;
     for (const Vec3& p : X)
-        cd.rest_extent2 = std::max(cd.rest_extent2, (p - X.front()).squaredNorm());
+        extent2 = std::max(extent2, (p - X.front()).squaredNorm());
+    m_rest_extent2[std::size_t(c)] = extent2;
     cd.rest_local.resize(Index(X.size()), 3);
     for (std::size_t i = 0; i < X.size(); ++i)
         cd.rest_local.row(Index(i)) = (X[i] - Xc).transpose();
@@ -307,6 +310,12 @@ void ElasticModel::rebuild_pattern() {
         if (ok)
             std::copy(blk, blk + 20, m_block_scatter.begin() + std::ptrdiff_t(20 * c));
     }
+    m_node_offset.assign(m_cells.size() + 1, 0);
+    m_node_list.clear();
+    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        m_node_list.insert(m_node_list.end(), m_cells[c].nodes.begin(), m_cells[c].nodes.end());
+        m_node_offset[c + 1] = m_node_list.size();
+    }
     rebuild_partition();
     ++m_topology_version;
 }
@@ -459,18 +468,20 @@ double ElasticModel::max_cell_stretch(const MatX3& x) const {
     reduction(max                                                                                  \
               : worst2) if (m_threads > 1)
     for (std::ptrdiff_t c = 0; c < cells; ++c) {
-        const CellData& cd = m_cells[std::size_t(c)];
-        if (cd.nodes.size() < 2 || !(cd.rest_extent2 > 0))
+        const std::size_t begin = m_node_offset[std::size_t(c)];
+        const std::size_t end = m_node_offset[std::size_t(c) + 1];
+        const double rest2 = m_rest_extent2[std::size_t(c)];
+        if (end - begin < 2 || !(rest2 > 0))
             continue;
-        const double* xa = x.data() + 3 * cd.nodes.front();
+        const double* xa = x.data() + 3 * m_node_list[begin];
         double now = 0;
-        for (std::size_t k = 1; k < cd.nodes.size(); ++k) {
-            const double* xb = x.data() + 3 * cd.nodes[k];
+        for (std::size_t k = begin + 1; k < end; ++k) {
+            const double* xb = x.data() + 3 * m_node_list[k];
             const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
             now = std::max(now, dx * dx + dy * dy + dz * dz);
         }
         // NaN positions must show as an explosion
-        const double ratio = now / cd.rest_extent2;
+        const double ratio = now / rest2;
         worst2
             = std::isnan(ratio) ? std::numeric_limits<double>::infinity() : std::max(worst2, ratio);
     }

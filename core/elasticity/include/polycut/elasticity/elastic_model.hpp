@@ -112,7 +112,6 @@ private:
         MatX stiffness; ///< Ke (3n x 3n)
         MatX3 fit; ///< fit gradients G (n x 3)
         MatX3 rest_local; ///< X_i - X_c (n x 3)
-        double rest_extent2 = 0; ///< max_k |X_k - X_0|^2 over the cell's nodes [m^2]
     };
     /// Compact data of a one-point 4-node cell (P1 tet) for the closed-form corotated kernel:
     /// blocks R Ke_ij R^T = V (lambda r_i r_j^T + mu r_j r_i^T + mu g_i.g_j I), r_i = R g_i.
@@ -157,6 +156,11 @@ private:
     /// Threaded assembly: cells per thread (all nodes in its range), then the rest (serial).
     std::vector<std::vector<Index>> m_thread_cells;
     std::vector<Index> m_shared_cells;
+    /// Flat copies for the stretch check (cache-friendly): cell nodes (CSR by cell, rebuilt
+    /// with the pattern) and max_k |X_k - X_0|^2 per cell [m^2] (with the cell data).
+    std::vector<std::size_t> m_node_offset;
+    std::vector<Index> m_node_list;
+    std::vector<double> m_rest_extent2;
 };
 
 } // namespace polycut::elasticity
