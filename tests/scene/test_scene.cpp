@@ -124,6 +124,29 @@ TEST(Scene, SolverWarmStartParses) {
         "/solver/warm_start");
 }
 
+TEST(Scene, ThreadsAndAmgOptionsParse) {
+    // issue 18: integrator.threads, solver.amg; defaults are the serial run and AmgOptions'
+    const Scene d = parse_scene(kMinimal);
+    EXPECT_EQ(d.integrator.threads, 1);
+    EXPECT_DOUBLE_EQ(d.solver.amg_strong_threshold, 0.5);
+    EXPECT_FALSE(d.solver.amg_rigid_body_modes);
+    const std::string loads = "\"loads\": {\"gravity\": [0, 0, -9.81]}";
+    const Scene s = parse_scene(with(loads, loads + R"(, "integrator": {"threads": 2},
+        "solver": {"preconditioner": "amg", "amg": {"strong_threshold": 0.25,
+        "aggressive_levels": 0, "interpolation_max_elements": 6, "rigid_body_modes": true}})"));
+    EXPECT_EQ(s.integrator.threads, 2);
+    EXPECT_DOUBLE_EQ(s.solver.amg_strong_threshold, 0.25);
+    EXPECT_EQ(s.solver.amg_aggressive_levels, 0);
+    EXPECT_EQ(s.solver.amg_interpolation_max_elements, 6);
+    EXPECT_TRUE(s.solver.amg_rigid_body_modes);
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "integrator": {"threads": 0})")),
+        "/integrator/threads");
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"amg": {"strong_threshold": 0}})")),
+        "/solver/amg/strong_threshold");
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"amg": {"theta": 0.5}})")),
+        "/solver/amg/theta");
+}
+
 TEST(Scene, EveryShippedSceneParses) {
     const std::filesystem::path dir = std::filesystem::path(POLYCUT_SOURCE_DIR) / "assets/scenes";
     int count = 0;

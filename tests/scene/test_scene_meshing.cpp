@@ -150,3 +150,13 @@ TEST(SceneMeshing, MeshFileTakesNoMeshingKeys) {
             std::string("/geometry/") + key)
             << key;
 }
+
+TEST(SceneMeshing, NodeOrder) {
+    // issue 18: meshed tets are renumbered by reverse Cuthill-McKee unless the scene keeps
+    // Mesh_3's order
+    EXPECT_EQ(implicit().node_order, "rcm");
+    EXPECT_EQ(surface().node_order, "rcm");
+    EXPECT_EQ(implicit(R"("node_order": "mesher")").node_order, "mesher");
+    EXPECT_EQ(surface(R"("node_order": "mesher")").node_order, "mesher");
+    EXPECT_EQ(error_pointer(kImplicit, R"("node_order": "metis")"), "/geometry/node_order");
+}
