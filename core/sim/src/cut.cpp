@@ -64,7 +64,7 @@ void snap_to_face_plane(const mesh::Mesh& m, const std::vector<Index>& near, std
             r[k] -= (best_n.dot(r[k]) - best_d) * best_n;
 }
 
-/// The snapping rule for the blade's edges (issue 12 item 2, docs/decisions/0006): a new corner
+/// The snapping rule for the blade's edges (issue 12 item 2, docs/decisions/0007): a new corner
 /// `x` of a rest sweep triangle with unit normal `n` and offset `d0` that lies within `tol` [m]
 /// of a node of the uncut mesh `m` in the triangle's plane goes onto that node; otherwise,
 /// within `tol` of the chord the plane cuts from a face of the uncut mesh (an edge when the

@@ -24,7 +24,7 @@ struct CutOptions {
     /// the start and the end of a stroke) reach the rest mesh through an affine fit of a
     /// deforming body and arrive ~1-2 % of a cell beside grid nodes they were meant to pass
     /// through; clipping there left strips of faces and nodes 0.1-0.2 mm apart whose cells had
-    /// near-zero-energy modes (issue 12, docs/decisions/0006). The crack front moves by at most
+    /// near-zero-energy modes (issue 12, docs/decisions/0007). The crack front moves by at most
     /// this much.
     double edge_snap = 0.03;
     /// A sweep triangle whose area is below min_area * L^2 (L: rest bounding-box diagonal of the
