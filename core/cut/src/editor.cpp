@@ -13,6 +13,10 @@ Editor::Editor(mesh::Mesh& mesh, const CutOptions& options)
     : m(mesh)
     , opt(options) {
     rebuild();
+    double volume = 0;
+    for (Index c = 0; c < m.num_cells(); ++c)
+        volume += std::abs(m.cell_volume(c));
+    m_cell_size = m.num_cells() > 0 ? std::cbrt(volume / double(m.num_cells())) : 0.0;
 }
 
 void Editor::rebuild() {

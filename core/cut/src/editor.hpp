@@ -66,6 +66,9 @@ public:
     double thickness(Index c);
     /// Snapping distance of node n [m].
     double snap_eps(Index n);
+    /// Cube root of the mean cell volume of the mesh the editor was made for [m] (fixed: the
+    /// scale of tolerances that must not shrink as cuts make cells smaller).
+    double cell_size() const { return m_cell_size; }
 
     /// Cells using node n.
     std::vector<std::vector<Index>> node_cells;
@@ -74,6 +77,7 @@ public:
 private:
     std::vector<geometry::Aabb> m_bounds;
     std::vector<double> m_thickness; // NaN when stale
+    double m_cell_size = 0;
     std::vector<char> m_bounds_ok;
     std::vector<char> m_changed;
     std::vector<Index> m_changed_list;

@@ -11,7 +11,7 @@ int PlaneClassifier::sign(Index n) {
     if (it != m_sign.end())
         return it->second;
     const double d = distance(n);
-    const double eps = m_ed.snap_eps(n);
+    const double eps = std::max(m_min_eps, m_ed.snap_eps(n));
     const int s = d > eps ? 1 : (d < -eps ? -1 : 0);
     m_sign.emplace(n, s);
     return s;

@@ -12,9 +12,11 @@ namespace polycut::cut::detail {
 /// Classification of nodes against one plane during one operation.
 class PlaneClassifier {
 public:
-    PlaneClassifier(Editor& editor, const Plane& plane)
+    /// `min_eps` [m]: the snapping distance is at least this (0: the node's own, Editor::snap_eps).
+    PlaneClassifier(Editor& editor, const Plane& plane, double min_eps = 0)
         : m_ed(editor)
-        , m_plane(plane) { }
+        , m_plane(plane)
+        , m_min_eps(min_eps) { }
     const Plane& plane() const { return m_plane; }
     /// Signed distance of node n [m].
     double distance(Index n) const { return m_plane.distance(at(m_ed.m.rest, n)); }
@@ -31,6 +33,7 @@ public:
 private:
     Editor& m_ed;
     Plane m_plane;
+    double m_min_eps = 0;
     std::unordered_map<Index, int> m_sign;
 };
 

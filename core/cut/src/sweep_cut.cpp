@@ -140,7 +140,8 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
     std::vector<PlaneClassifier> sides;
     for (int i = 0; i < 3; ++i) {
         const Vec3 s = (tri[std::size_t((i + 1) % 3)] - tri[std::size_t(i)]).cross(n).normalized();
-        sides.emplace_back(ed, Plane { s, s.dot(tri[std::size_t(i)]) });
+        sides.emplace_back(
+            ed, Plane { s, s.dot(tri[std::size_t(i)]) }, ed.opt.edge_snap * ed.cell_size());
     }
     std::vector<Index> crack;
     for (Index f : plane_faces) {

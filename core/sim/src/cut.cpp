@@ -63,6 +63,60 @@ void snap_to_face_plane(const mesh::Mesh& m, const std::vector<Index>& near, std
         if (!known[k])
             r[k] -= (best_n.dot(r[k]) - best_d) * best_n;
 }
+
+/// The snapping rule for the blade's edges (issue 12 item 2, docs/decisions/0007): a new corner
+/// `x` of a rest sweep triangle with unit normal `n` and offset `d0` that lies within `tol` [m]
+/// of a node of the uncut mesh `m` in the triangle's plane goes onto that node; otherwise,
+/// within `tol` of the chord the plane cuts from a face of the uncut mesh (an edge when the
+/// edge lies in the plane), onto that chord. The triangle's
+/// plane does not change. A blade meant to run along grid edges or through grid nodes (its tip,
+/// the start and the end of a stroke) arrives ~0.2 mm beside them after the affine fit of a
+/// sagging body; cut there, it left strips of faces and nodes that close whose cells had
+/// near-zero-energy modes. `cells`: the cells of `m` near x; `in_plane` [m]: how close to the
+/// plane a node counts as in it. Only the uncut mesh's features attract: the nodes the stroke
+/// itself made would pull each new corner back onto the previous crack front.
+void snap_corner_to_features(const mesh::Mesh& m, const std::vector<Index>& cells, Vec3& x,
+    const Vec3& n, double d0, double tol, double in_plane) {
+    double best_node = tol, best_chord = tol;
+    Vec3 node_target = x, chord_target = x;
+    std::vector<Vec3> ends;
+    for (Index c : cells)
+        for (Index f : m.cells[std::size_t(c)].faces) {
+            // The chord the plane cuts from the face (an edge of it when the edge lies in the
+            // plane); faces in the plane have none.
+            const auto& loop = m.faces[std::size_t(f)].nodes;
+            ends.clear();
+            for (std::size_t i = 0; i < loop.size(); ++i) {
+                const Vec3& a = m.rest[std::size_t(loop[i])];
+                const Vec3& b = m.rest[std::size_t(loop[(i + 1) % loop.size()])];
+                const double da = n.dot(a) - d0, db = n.dot(b) - d0;
+                if (std::abs(da) <= in_plane) {
+                    ends.push_back(a);
+                    if ((a - x).norm() < best_node) {
+                        best_node = (a - x).norm();
+                        node_target = a;
+                    }
+                } else if (std::abs(db) > in_plane && (da < 0) != (db < 0)) {
+                    ends.push_back(a + (da / (da - db)) * (b - a));
+                }
+            }
+            if (ends.size() != 2)
+                continue;
+            const Vec3 e = ends[1] - ends[0];
+            if (!(e.squaredNorm() > 0))
+                continue;
+            const Vec3 p
+                = ends[0] + std::clamp((x - ends[0]).dot(e) / e.squaredNorm(), 0.0, 1.0) * e;
+            if ((p - x).norm() < best_chord) {
+                best_chord = (p - x).norm();
+                chord_target = p;
+            }
+        }
+    if (best_node < tol)
+        x = node_target;
+    else if (best_chord < tol)
+        x = chord_target;
+}
 } // namespace
 
 CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
@@ -116,6 +170,9 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     // A blade whose rest triangle lies within kFacePlane x (mean cell size) of the plane of a
     // face of the cells it meets is put into that plane (see snap_to_face_plane).
     constexpr double kFacePlane = 0.02;
+    // A new corner within kEdgeSnap x (mean cell size) of a node of the uncut mesh or of the
+    // chord its plane cuts from a face goes onto it (see snap_corner_to_features).
+    constexpr double kEdgeSnap = 0.05;
     // Below this area (relative to L^2) or altitude (relative to L) a triangle cuts nothing; the
     // cutter rejects such rest triangles (CutOptions::min_area), so they are dropped here first.
     constexpr double kMinSweepArea = 2 * cut::CutOptions {}.min_area;
@@ -187,6 +244,21 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                     }
                 }
             snap_to_face_plane(s.mesh, near, r, known, kFacePlane * cell_size, same);
+            if (!s.rest_locator) {
+                s.rest_locator = std::make_unique<cut::WorldToRest>(s.initial_mesh);
+                s.rest_locator->refit(s.initial_mesh.rest, false);
+            }
+            // Cell splitting only: face snapping moves nodes onto the blade itself.
+            const Vec3 rn = (r[1] - r[0]).cross(r[2] - r[0]).normalized();
+            for (std::size_t k = 0; k < 3 && !snap; ++k) {
+                if (known[k] || !rn.allFinite())
+                    continue;
+                geometry::Aabb around;
+                around.extend(r[k] - Vec3::Constant(kEdgeSnap * cell_size));
+                around.extend(r[k] + Vec3::Constant(kEdgeSnap * cell_size));
+                snap_corner_to_features(s.initial_mesh, s.rest_locator->candidates(around), r[k],
+                    rn, rn.dot(r[(k + 1) % 3]), kEdgeSnap * cell_size, same);
+            }
         }
         const Vec3 normal = (r[1] - r[0]).cross(r[2] - r[0]);
         const double longest
@@ -224,10 +296,6 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         summary.cells_split = int(report.new_cells.size());
         summary.nodes_added = int(report.nodes_after - report.nodes_before);
         summary.topology_changed = report.topology_changed;
-        if (!s.rest_locator) {
-            s.rest_locator = std::make_unique<cut::WorldToRest>(s.initial_mesh);
-            s.rest_locator->refit(s.initial_mesh.rest, false);
-        }
         for (const cut::Triangle& t : rest)
             summary.swept_area
                 += cut::area_inside(s.initial_mesh, s.rest_locator->candidates(triangle_box(t)), t);

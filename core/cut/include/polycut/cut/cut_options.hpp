@@ -17,6 +17,16 @@ struct CutOptions {
     /// around a node: a node closer than snap * h to a cutting plane counts as lying on it, so no
     /// edge node is created next to it (no needles, 000 sec. 4 and 5.1).
     double snap = 1e-3;
+    /// Snapping distance of the sweep triangles' side planes (the plane through an edge of the
+    /// triangle, perpendicular to it, that clips the faces lying in the sweep plane), relative
+    /// to the mean cell size of the mesh the cutter was made for (cube root of the mean cell
+    /// volume): a node this close to a side plane counts as on it. The blade's edges (its tip,
+    /// the start and the end of a stroke) reach the rest mesh through an affine fit of a
+    /// deforming body and arrive ~1-2 % of a cell beside grid nodes they were meant to pass
+    /// through; clipping there left strips of faces and nodes 0.1-0.2 mm apart whose cells had
+    /// near-zero-energy modes (issue 12, docs/decisions/0007). The crack front moves by at most
+    /// this much.
+    double edge_snap = 0.03;
     /// A sweep triangle whose area is below min_area * L^2 (L: rest bounding-box diagonal of the
     /// mesh) or whose shortest altitude is below min_area * L is rejected as degenerate.
     double min_area = 1e-10;
