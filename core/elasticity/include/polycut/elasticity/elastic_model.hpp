@@ -148,6 +148,12 @@ private:
     std::vector<std::size_t> m_scatter_offset;
     std::vector<int> m_scatter;
     std::vector<Index> m_diag_slots;
+    // Node-level pattern: neighbours of each node (CSR, sorted), where each neighbour's rows
+    // start within the node's columns, and the column length.
+    std::vector<std::size_t> m_nb_offset;
+    std::vector<Index> m_nb_nodes;
+    std::vector<int> m_nb_start;
+    std::vector<int> m_nb_length;
     /// Per cell, 20 ints: the compact scatter of a 4-node cell whose 12 DOFs are free (see
     /// detail::P1TetView::block); first entry -1 when the full scatter must be used.
     std::vector<int> m_block_scatter;

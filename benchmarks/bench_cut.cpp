@@ -1,0 +1,174 @@
+// Cost of cutting while the simulation runs (issue 12 item 5), in process, as the server spends
+// it at each tick of a scalpel stroke: the cut of the tick's sweep (two triangles per sample,
+// samples held until the blade moved Simulation::blade_min_advance(), as the server does) and the
+// step after it. No network, no other client: the figures the live runs (polycut_incision.py)
+// add scheduling noise to.
+//
+//   bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N] [--settle S] [--depth D]
+//
+// The stroke: a blade from 2 cm above the tissue's top down to D x its height (default 0.4),
+// in the plane y = centre + 2.5 mm (between grid planes on the shipped boxes), moving along x
+// over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps of
+// settling (default 10). One JSON object per scene on stdout:
+//   nodes, cells (before/after), cutter
+//   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)
+//   ticks_over_16_7, ticks_over_50                 ticks above the 60 Hz budget / the 50 ms bound
+//   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
+//   undo_reasons                                   the warnings of the first undone cuts
+#include "polycut/common/error.hpp"
+#include "polycut/common/stats.hpp"
+#include "polycut/scene/scene.hpp"
+#include "polycut/sim/simulation.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+using namespace polycut;
+using json = nlohmann::json;
+
+namespace {
+
+struct Args {
+    std::vector<std::string> scenes;
+    std::string cutter = "asis";
+    int ticks = 180;
+    int settle = 10;
+    double depth = 0.4;
+};
+
+json percentiles(std::vector<double> v) {
+    if (v.empty())
+        return json::object();
+    std::sort(v.begin(), v.end());
+    auto at = [&](double q) { return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))]; };
+    return { { "median", at(0.5) }, { "p99", at(0.99) }, { "max", v.back() } };
+}
+
+json run(const std::string& path, const Args& a) {
+    std::ifstream in(path);
+    if (!in)
+        throw FileError(path, 0, "cannot open");
+    json j = json::parse(in);
+    if (a.cutter == "snap") {
+        j["method"] = "tet";
+        j["cutting"] = { { "method", "snap" } };
+    } else if (a.cutter == "split") {
+        j["method"] = "mvc";
+        j["cutting"] = { { "method", "split" } };
+    }
+    scene::Scene sc = scene::parse_scene(j.dump(), std::filesystem::path(path).parent_path().string());
+    sim::Simulation s(std::move(sc));
+    for (int k = 0; k < a.settle; ++k)
+        s.step();
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (const Vec3& p : s.positions()) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    const Vec3 c = 0.5 * (lo + hi), size = hi - lo;
+    const double top = hi.z() + 0.02, bottom = hi.z() - a.depth * size.z();
+    const double y = c.y() + 0.0025;
+    auto blade = [&](int k) {
+        const double x = lo.x() + size.x() * (0.2 + 0.6 * double(k) / double(a.ticks - 1));
+        return std::pair<Vec3, Vec3> { Vec3(x, y, top), Vec3(x, y, bottom) };
+    };
+    std::vector<double> cut_ms, step_ms, tick_ms;
+    int failed = 0, undone = 0, over_budget = 0, over_50 = 0;
+    std::vector<std::string> reasons; // the first few undone cuts' warnings
+    const long cells_before = s.cell_count();
+    auto last = blade(0);
+    bool held = false;
+    auto sweep = [&](const std::pair<Vec3, Vec3>& q) {
+        try {
+            const sim::CutSummary r = s.cut({ { last.first, last.second, q.first },
+                { last.second, q.second, q.first } });
+            (void)r;
+        } catch (const std::exception&) {
+            ++failed;
+        }
+        last = q;
+        held = false;
+    };
+    for (int k = 1; k <= a.ticks; ++k) {
+        Stopwatch tick;
+        if (k < a.ticks) {
+            const auto q = blade(k);
+            const double advance = std::max(
+                (q.first - last.first).norm(), (q.second - last.second).norm());
+            if (advance < s.blade_min_advance())
+                held = true;
+            else
+                sweep(q);
+        } else {
+            if (held)
+                sweep(blade(a.ticks - 1));
+            try {
+                s.end_stroke();
+            } catch (const std::exception&) {
+                ++failed;
+            }
+        }
+        const double cut = tick.ms();
+        const sim::StepReport r = s.step();
+        const double total = tick.ms();
+        undone += r.cut_undone ? 1 : 0;
+        if (r.cut_undone && reasons.size() < 3 && !r.warnings.empty())
+            reasons.push_back(r.warnings.front());
+        cut_ms.push_back(cut);
+        step_ms.push_back(total - cut);
+        tick_ms.push_back(total);
+        over_budget += total > 1000.0 / 60.0 ? 1 : 0;
+        over_50 += total > 50 ? 1 : 0;
+    }
+    const sim::MeshStats st = s.mesh_stats();
+    return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
+        { "cells_before", cells_before }, { "cells_after", s.cell_count() },
+        { "ticks", a.ticks }, { "cut_ms", percentiles(cut_ms) },
+        { "step_ms", percentiles(step_ms) }, { "tick_ms", percentiles(tick_ms) },
+        { "ticks_over_16_7", over_budget }, { "ticks_over_50", over_50 },
+        { "completeness", st.completeness() }, { "failed_cuts", failed }, { "undone", undone },
+        { "undo_reasons", reasons } };
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc)
+                throw InputError(arg, "needs a value");
+            return argv[++i];
+        };
+        if (arg == "--cutter")
+            a.cutter = value();
+        else if (arg == "--ticks")
+            a.ticks = std::stoi(value());
+        else if (arg == "--settle")
+            a.settle = std::stoi(value());
+        else if (arg == "--depth")
+            a.depth = std::stod(value());
+        else
+            a.scenes.push_back(arg);
+    }
+    if (a.scenes.empty() || a.ticks < 2) {
+        std::cerr << "usage: bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N >= 2] "
+                     "[--settle S] [--depth D]\n";
+        return 2;
+    }
+    try {
+        for (const std::string& path : a.scenes)
+            std::cout << run(path, a).dump() << std::endl;
+    } catch (const std::exception& e) {
+        std::cerr << "bench_cut: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
