@@ -17,6 +17,7 @@
 //                                              bench_organ_ref_<name>_<hash>.bin in the working
 //                                              directory); the accuracy criterion is 1e-3
 //   rolled_back, load                          failed steps; /proc/loadavg (1 min) at the end
+// --trace FILE writes one line per step: tick, wall ms, CPU ms, iterations, assembly ms, solve ms.
 // --patch applies a JSON merge patch (RFC 7386) to every scene before parsing, e.g.
 //   --patch '{"integrator": {"threads": 2}}' or '{"solver": {"tolerance": 0.3}}'.
 // Run heavy cases on an idle machine; on a shared one prefer the CPU medians.
@@ -48,6 +49,7 @@ struct Args {
     long steps = 300;
     long warmup = 10;
     bool error = true;
+    std::string trace; ///< --trace FILE: one line per step (tick, wall ms, cpu ms, its)
 };
 
 json read_json(const std::string& path) {
@@ -138,12 +140,18 @@ json run(const std::string& path, const Args& a) {
     double err = -1;
     bool need_error = a.error;
     std::vector<Vec3> x50;
+    std::ofstream trace;
+    if (!a.trace.empty())
+        trace.open(a.trace);
     for (long k = 0; k < a.warmup + a.steps; ++k) {
         const double c0 = process_cpu_ms();
         const Stopwatch sw;
         const sim::StepReport r = sim.step();
         const double w = sw.ms(), c = process_cpu_ms() - c0;
         rolled_back += r.rolled_back ? 1 : 0;
+        if (trace)
+            trace << r.tick << ' ' << w << ' ' << c << ' ' << r.solver_iterations << ' '
+                  << r.assembly_ms << ' ' << r.solve_ms << '\n';
         if (r.tick == kAccuracyStep && need_error)
             x50 = sim.positions();
         if (k < a.warmup)
@@ -180,7 +188,7 @@ json run(const std::string& path, const Args& a) {
 int usage(const char* why) {
     std::fprintf(stderr,
         "bench_organ: %s\nusage: bench_organ SCENE.json... [--steps N] [--warmup W] "
-        "[--patch JSON]... [--no-error]\n",
+        "[--patch JSON]... [--no-error] [--trace FILE]\n",
         why);
     return 2;
 }
@@ -197,6 +205,8 @@ int main(int argc, char** argv) {
             a.warmup = std::stol(argv[++i]);
         else if (s == "--patch" && i + 1 < argc)
             a.patches.push_back(json::parse(argv[++i]));
+        else if (s == "--trace" && i + 1 < argc)
+            a.trace = argv[++i];
         else if (s == "--no-error")
             a.error = false;
         else if (!s.empty() && s[0] == '-')
