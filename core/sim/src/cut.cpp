@@ -442,12 +442,14 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
 }
 
 Simulation::Impl::Snapshot Simulation::Impl::snapshot() const {
-    return { mesh, state, node_fixed_mask, scene_forces, forces, grabs, swept_area, topology,
+    Snapshot snap { {}, state, node_fixed_mask, scene_forces, forces, grabs, swept_area, topology,
         topology_version };
+    mesh::pack(mesh, snap.mesh);
+    return snap;
 }
 
 void Simulation::Impl::restore(const Snapshot& snap, bool published) {
-    mesh = snap.mesh;
+    mesh = mesh::unpack(snap.mesh);
     state = snap.state;
     node_fixed_mask = snap.node_fixed_mask;
     scene_forces = snap.scene_forces;

@@ -8,6 +8,7 @@
 #include "polycut/integrate/integrator.hpp"
 #include "polycut/integrate/options.hpp"
 #include "polycut/mesh/mesh.hpp"
+#include "polycut/mesh/packed.hpp"
 #include "polycut/sim/simulation.hpp"
 #include "polycut/surface/extract.hpp"
 
@@ -67,7 +68,7 @@ struct Simulation::Impl {
     std::unique_ptr<cut::WorldToRest> rest_locator;
     /// What a cut may change, kept so a failed cut can be undone.
     struct Snapshot {
-        mesh::Mesh mesh;
+        mesh::PackedMesh mesh; ///< flat: a cut's undo must not cost a copy of every face vector
         integrate::State state;
         std::vector<std::uint8_t> node_fixed_mask;
         VecX scene_forces;
