@@ -141,6 +141,12 @@ TEST(Scene, ThreadsAndAmgOptionsParse) {
     EXPECT_TRUE(s.solver.amg_rigid_body_modes);
     EXPECT_EQ(error_pointer(with(loads, loads + R"(, "integrator": {"threads": 0})")),
         "/integrator/threads");
+    EXPECT_EQ(d.integrator.stiffness_every, 1);
+    EXPECT_EQ(parse_scene(with(loads, loads + R"(, "integrator": {"stiffness_every": 4})"))
+                  .integrator.stiffness_every,
+        4);
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "integrator": {"stiffness_every": 0})")),
+        "/integrator/stiffness_every");
     EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"amg": {"strong_threshold": 0}})")),
         "/solver/amg/strong_threshold");
     EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"amg": {"theta": 0.5}})")),

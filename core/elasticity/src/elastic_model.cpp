@@ -144,6 +144,7 @@ void ElasticModel::compute_cell(Index c) {
 }
 
 void ElasticModel::rebuild_mass() {
+    ++m_cell_version; // every change of cells or fixed DOFs ends here
     m_mass.setZero(m_mesh->num_nodes());
     for (const CellData& cd : m_cells)
         for (std::size_t i = 0; i < cd.nodes.size(); ++i)

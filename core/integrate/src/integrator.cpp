@@ -146,6 +146,7 @@ void Integrator::ensure_topology(StepReport& report) {
     }
     m_dv.setZero(m_model->num_free_dofs());
     m_dv_prev.resize(0);
+    m_stiffness_age = -1;
     geometry::Aabb box;
     for (const Vec3& p : m_model->mesh().rest)
         box.extend(p);
@@ -237,13 +238,24 @@ bool Integrator::step_implicit(State& s, StepReport& report) {
     const double alpha = m_model->material().rayleigh_mass;
     const double beta = m_model->material().rayleigh_stiffness;
     external_reduced();
-    assemble(s.x, m_options.force_mode, true, report);
+    // K_R and A are reused for stiffness_every - 1 steps (options.hpp); forces are always new
+    const bool new_stiffness = m_stiffness_age < 0
+        || m_stiffness_age + 1 >= std::max(m_options.stiffness_every, 1)
+        || m_stiffness_cells != m_model->cell_version();
+    assemble(s.x, m_options.force_mode, new_stiffness, report);
     gather_free(s.v, m_v_r);
     const VecX& M = m_model->reduced_mass();
-    // A = cK K + cM M and K v in one pass over K
     const double cK = h * beta + h * h, cM = 1.0 + h * alpha;
-    m_shift = cM * M;
-    solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());
+    if (new_stiffness) {
+        // A = cK K + cM M and K v in one pass over K
+        m_shift = cM * M;
+        solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());
+        m_stiffness_age = 0;
+        m_stiffness_cells = m_model->cell_version();
+    } else {
+        solve::multiply_symmetric(m_K, m_v_r, m_tmp, m_model->threads());
+        ++m_stiffness_age;
+    }
     m_rhs = h * (m_fext_r + m_fint_r - alpha * M.cwiseProduct(m_v_r) - (beta + h) * m_tmp);
     if (!m_rhs.allFinite()) {
         report.status = solve::SolveStatus::NonFinite;
@@ -457,6 +469,7 @@ StepReport Integrator::step(State& s) {
             report.rolled_back = true;
             m_dv.setZero(m_model->num_free_dofs()); // a bad warm start must not persist
             m_dv_prev.resize(0);
+            m_stiffness_age = -1; // nor a stiffness from the failed step
         }
     } catch (const std::exception& e) {
         report.warnings.push_back(std::string("step failed: ") + e.what());

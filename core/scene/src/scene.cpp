@@ -192,6 +192,7 @@ Integrator parse_integrator(const json& j, const std::string& ptr) {
     it.tolerance = r.number("tolerance", it.tolerance, 0, 1, true);
     it.max_iterations = int(r.integer("max_iterations", it.max_iterations, 1, 100000));
     it.threads = int(r.integer("threads", it.threads, 1, 256));
+    it.stiffness_every = int(r.integer("stiffness_every", it.stiffness_every, 1, 1000));
     r.finish();
     return it;
 }

@@ -152,6 +152,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.amg.interpolation_max_elements = sv.amg_interpolation_max_elements;
     o.solver.amg.rigid_body_modes = sv.amg_rigid_body_modes;
     o.threads = it.threads;
+    o.stiffness_every = it.stiffness_every;
     return o;
 }
 

@@ -92,6 +92,9 @@ public:
     void set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs);
     /// Incremented whenever the pattern (and DOF numbering) changes.
     std::uint64_t topology_version() const { return m_topology_version; }
+    /// Incremented whenever cell data (rest shape, Ke) or the fixed DOFs change (update_cells,
+    /// rebuild_topology, set_fixed_dofs): a cached stiffness is stale after it moves.
+    std::uint64_t cell_version() const { return m_cell_version; }
 
     /// Threads for assemble() (>= 1; 1 = serial, the default). With T > 1 the nodes are split
     /// into T ranges balanced by cell count; thread t assembles, in cell order, the cells whose
@@ -158,6 +161,7 @@ private:
     /// detail::P1TetView::block); first entry -1 when the full scatter must be used.
     std::vector<int> m_block_scatter;
     std::uint64_t m_topology_version = 0;
+    std::uint64_t m_cell_version = 0;
     int m_threads = 1;
     /// Threaded assembly: cells per thread (all nodes in its range), then the rest (serial).
     std::vector<std::vector<Index>> m_thread_cells;

@@ -86,6 +86,10 @@ private:
     // Work arrays, reused between steps.
     solve::SparseMatrix m_K, m_A;
     VecX m_fint, m_fint_r, m_fext_r, m_v_r, m_rhs, m_dv, m_tmp, m_full, m_coords, m_shift;
+    /// ImplicitEuler with stiffness_every > 1: steps since K_R (and A) were last assembled
+    /// (-1: none valid for the current pattern)
+    int m_stiffness_age = -1;
+    std::uint64_t m_stiffness_cells = 0; ///< model cell_version() of the assembled K_R
     VecX
         m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
     State m_backup;

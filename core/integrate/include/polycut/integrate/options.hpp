@@ -80,6 +80,12 @@ struct IntegratorOptions {
     /// ImplicitEuler with PCG: start from the linear extrapolation 2 dv_{n-1} - dv_{n-2} of the
     /// last two velocity increments instead of dv_{n-1} (fewer iterations on smooth motion).
     bool extrapolate_warm_start = false;
+    /// ImplicitEuler: assemble the corotated stiffness K_R (and the system matrix) every k steps
+    /// and reuse it in between (forces and rotations are still evaluated every step, so the
+    /// equilibrium is exact; only the step's linearization lags by up to k - 1 steps). 1 = every
+    /// step (the design's "linearized once per step"). Pays at haptic rates, where a step moves
+    /// the rotations by very little (docs/perf.md "Organ scale").
+    int stiffness_every = 1;
     /// Threads for assembly and the solver's matrix passes (1 = serial). A step's result is
     /// deterministic for a given count; counts differ by the order of sums (round-off).
     int threads = 1;

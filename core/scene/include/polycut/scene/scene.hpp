@@ -76,6 +76,8 @@ struct Integrator {
     /// Threads for assembly and the solver's matrix passes (1 = serial). Results are
     /// deterministic for a given count; different counts agree to round-off.
     int threads = 1;
+    /// implicit_euler: assemble the corotated stiffness every k steps, reuse it in between
+    int stiffness_every = 1;
 };
 
 struct Solver {
