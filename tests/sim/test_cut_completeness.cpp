@@ -25,7 +25,9 @@ constexpr double kSnapCompleteness = 0.8;
 /// Cell splitting follows the blade exactly: cut area = 2 x swept area to 1 %.
 constexpr double kSplitTolerance = 0.01;
 
-enum class Grid { KuhnTet, FiveTet, Hex };
+/// The grids of the default block, and the CGAL-meshed organ-like blob (10 x 6.4 x 4.4 cm about
+/// the origin, 6 mm cells: irregular tets, no plane of faces anywhere).
+enum class Grid { KuhnTet, FiveTet, Hex, Organ };
 
 std::string scene_json(Grid grid, bool split) {
     nlohmann::json s = nlohmann::json::parse(R"({"name": "completeness",
@@ -49,6 +51,13 @@ std::string scene_json(Grid grid, bool split) {
     case Grid::Hex:
         box["elements"] = "hex";
         s["geometry"] = box;
+        break;
+    case Grid::Organ:
+        s["geometry"] = nlohmann::json::parse(
+            R"({"type": "implicit", "shape": "blob", "cell_size": 0.006, "seed": 0})");
+        // A patch of the underside, as in the organ scenes.
+        s["fixed"] = nlohmann::json::parse(
+            R"([{"box": {"min": [-0.06, -0.05, -0.03], "max": [0.06, 0.04, -0.0175]}}])");
         break;
     }
     s["method"] = split ? "mvc" : "tet";
@@ -175,6 +184,16 @@ std::vector<Case> cases() {
             add("fast", { stroke(0.0025, -0.03, 0.03, depth, above, 5) });
             add("slow", { stroke(0.0025, -0.005, 0.005, depth, above, 101) });
         }
+    }
+    // The organ (face snapping, issue 12 item 2 "CGAL tet meshes"): from 2 cm above its top
+    // (z ~ 0.02 m) to z = 0, 6 cm along x, at one tick per 2 mm and at 0.1 mm per tick.
+    for (const auto& [what, blades] :
+        { std::pair { "across", stroke(0.0025, -0.03, 0.03, 0.0, 0.04, 31) },
+            std::pair { "slow", stroke(0.0025, -0.005, 0.005, 0.0, 0.04, 101) } }) {
+        const std::string name = std::string("snap_organ_") + what;
+        const bool open = std::find(kOpen.begin(), kOpen.end(), name) != kOpen.end();
+        if (!open || std::getenv("POLYCUT_OPEN_CASES"))
+            out.push_back({ name, Grid::Organ, false, { blades } });
     }
     return out;
 }

@@ -360,6 +360,14 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         auto faces = snap::select_faces(s, plane);
         if (s.stats.edges_crossed == crossed)
             ++report.triangles_missed;
+        s.swept.push_back(plane);
+        if (s.opt.snap_nodes) {
+            // The faces of the swept surface (docs/decisions/0008); the edges at the nodes this
+            // snapped now meet the sweep at those nodes (002's marks, for the rule above).
+            const auto moved = snap::select_swept_faces(s, plane);
+            const auto more = snap::mark_snapped_nodes(s, plane, moved);
+            faces.insert(faces.end(), more.begin(), more.end());
+        }
         for (int round = 0; round < 8 && s.opt.snap_nodes && !faces.empty(); ++round) {
             const auto moved = snap::snap_face_nodes(s, plane, faces);
             faces = snap::mark_snapped_nodes(s, plane, moved);
@@ -368,7 +376,6 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         if (s.recent.size() == 4)
             s.recent.erase(s.recent.begin());
         s.recent.push_back(plane);
-        s.swept.push_back(plane);
         for (const auto& p : s.recent)
             snap::select_faces_in_plane(s, p);
         snap::dissect_pending(s);

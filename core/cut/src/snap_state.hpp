@@ -110,6 +110,18 @@ void select_faces_in_plane(State& s, const SweepPlane& plane);
 // nodes moved.
 std::vector<Index> snap_face_nodes(
     State& s, const SweepPlane& plane, const std::vector<Index>& faces);
+/// Snaps `nodes` (any order, duplicates allowed) onto the sweep plane; returns the nodes moved.
+std::vector<Index> snap_nodes(State& s, const SweepPlane& plane, std::vector<Index> nodes);
+
+// snap_select.cpp, second part: the stroke as one swept surface (docs/decisions/0008). Selects the interior
+// faces whose centroid the triangle sweeps and whose nodes are closest nodes of edges crossing
+// its plane, snaps those nodes onto the plane and appends the faces that now separate tets on
+// opposite sides to pending; returns the nodes moved.
+std::vector<Index> select_swept_faces(State& s, const SweepPlane& plane);
+
+/// Whether x lies on the swept surface of the stroke so far: within eps of the plane of a
+/// triangle of State::swept parallel to `plane` and inside it.
+bool on_swept_surface(const State& s, const SweepPlane& plane, const Vec3& x);
 
 // snap_dissect.cpp: dissects the pending faces that do not pinch an edge.
 void dissect_pending(State& s);
