@@ -19,8 +19,8 @@ using namespace polycut;
 namespace {
 
 /// Face snapping cuts along existing faces and snaps nodes onto the blade; what it reaches at the
-/// mesh's resolution on the enabled cases (docs/scenes.md states it; 1.01 in planes of faces,
-/// 0.84 for a blade ending inside a cell).
+/// mesh's resolution on the enabled cases (docs/scenes.md states it: 1.01 on the grids wherever
+/// the blade lies, 0.96 for a blade ending inside a cell and on the organ).
 constexpr double kSnapCompleteness = 0.8;
 /// Cell splitting follows the blade exactly: cut area = 2 x swept area to 1 %.
 constexpr double kSplitTolerance = 0.01;
@@ -139,12 +139,10 @@ StrokeOutcome play(sim::Simulation& s, const std::vector<Blade>& blades) {
     return out;
 }
 
-/// Cases not met yet (issue 12 is open on them): face snapping between and near grid planes,
-/// ending in a cell of the five-tet grid, in fast and in very slow strokes stops at a fraction
-/// of the sweep (closest-node selection leaves rows of faces unselected).
-const std::vector<std::string> kOpen = { "snap_kuhn_between_planes", "snap_kuhn_near_a_plane",
-    "snap_kuhn_fast", "snap_kuhn_slow", "snap_five_between_planes", "snap_five_near_a_plane",
-    "snap_five_ending_in_a_cell", "snap_five_fast", "snap_five_slow" };
+/// Cases not met yet (issue 12 is open on them): face snapping on the organ at 0.1 mm per tick
+/// reaches 0.79 (a 1 cm stroke on 6 mm cells: two nodes whose snap would flatten a tet stay off
+/// the blade and the faces around them are not cut).
+const std::vector<std::string> kOpen = { "snap_organ_slow" };
 
 struct Case {
     std::string name;

@@ -356,11 +356,11 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         plane.tri = tri;
         plane.normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
         plane.offset = plane.normal.dot(tri[0]);
+        s.swept.push_back(plane);
         const Index crossed = s.stats.edges_crossed;
         auto faces = snap::select_faces(s, plane);
         if (s.stats.edges_crossed == crossed)
             ++report.triangles_missed;
-        s.swept.push_back(plane);
         if (s.opt.snap_nodes) {
             // The faces of the swept surface (docs/decisions/0008); the edges at the nodes this
             // snapped now meet the sweep at those nodes (002's marks, for the rule above).

@@ -82,6 +82,15 @@ void evaluate(State& s, const SweepPlane& P, Index c, std::vector<Index>& found)
     const Index f = s.global_face(c, kFaceOpposite[std::size_t(out)]);
     if (f == kNone || at(s.m.faces, f).boundary())
         return;
+    // Only where the blade has passed (docs/decisions/0008): a face whose centroid lies beyond
+    // the swept surface would extend the cut past the blade's edges.
+    if (s.opt.snap_nodes) {
+        Vec3 mid = Vec3::Zero();
+        for (Index n : at(s.m.faces, f).nodes)
+            mid += s.X(n) / 3.0;
+        if (!on_swept_surface(s, P, mid - P.distance(mid) * P.normal))
+            return;
+    }
     if (std::find(s.pending.begin(), s.pending.end(), f) != s.pending.end())
         return;
     s.pending.push_back(f);
@@ -211,14 +220,21 @@ void select_faces_in_plane(State& s, const SweepPlane& P) {
 // sweep. A blade sampled once per tick sweeps strips narrower than a cell, and a blade between
 // two grid planes crosses most tets on one or two edges only, so that rule leaves rows of faces
 // unselected (0 for a 1 cm stroke at 0.1 mm per tick on 1 cm cells). Here each face is judged
-// against the surface the whole stroke has swept; an interior face is cut when
-//   1. its centroid, projected onto the plane of a sweep triangle, lies in that triangle (a point
-//      of the union of the stroke's triangles lies in one of them, so thin strips of many ticks
-//      add up; the blade's edges round the cut to whole faces by centroid, which has no bias);
+// against the surface the whole stroke has swept (State::swept, reset by end_sweep):
+//   0. the closest node of every edge a sweep triangle crosses goes onto its plane, whether or
+//      not a tet has collected three marks yet: where the snaps succeed no edge crosses the swept
+//      part of the plane any more, so the faces lying in it separate the two sides;
+//   1. an interior face is cut when its centroid, projected onto the plane of a sweep triangle,
+//      lies in that triangle (a point of the union of the stroke's triangles lies in one of
+//      them, so thin strips of many ticks add up; the blade's edges round the cut to whole faces
+//      by centroid, which has no bias), and
 //   2. each of its nodes lies on that plane or is the closest node of an edge crossing it
-//      (002 sec. 3.2.1's rule, lower id on a tie, applied to the triangle's plane);
+//      (002 sec. 3.2.1's rule, lower id on a tie, applied to the triangle's plane), and
 //   3. once its nodes are snapped onto the plane (002 sec. 3.2.2, with the same boundary rules
 //      and inversion guard), the tets on its two sides lie on opposite sides of the plane.
+// Faces in the plane whose nodes other triangles snapped are cut by select_faces_in_plane under
+// rule 1; 002's per-tet selection (above) still cuts where a snap was refused (a jagged piece),
+// also only under rule 1, so no rule cuts beyond the blade's edges.
 // Rule 2 bounds the snap: a node moves at most half the length of an edge of its own, along the
 // plane's normal (or within its boundary faces). Nodes on faces an earlier cut opened stay where
 // they are (moving one copy of a duplicated node would part the two lips in rest space).
@@ -291,6 +307,25 @@ bool on_swept_surface(const State& s, const SweepPlane& P, const Vec3& x) {
 
 std::vector<Index> select_swept_faces(State& s, const SweepPlane& P) {
     const double eps = s.opt.plane_eps * s.L;
+    // Rule 0: the closest node of every edge the triangle crosses goes onto its plane, whether
+    // or not a tet has collected three marks yet: then no edge crosses the swept part of the
+    // plane any more, so the faces in it separate the two sides wherever the blade passed.
+    std::vector<Index> marked;
+    {
+        std::unordered_map<std::uint64_t, char> seen;
+        for (Index c : s.near) {
+            const auto& nodes = at(s.m.cells, c).nodes;
+            for (const auto& [i, j] : kTetEdges) {
+                const Index a = nodes[std::size_t(i)], b = nodes[std::size_t(j)];
+                if (!seen.try_emplace(edge_key(a, b), 0).second)
+                    continue;
+                const Index v = crossing(s, P, eps, a, b);
+                if (v != kNone && std::abs(P.distance(s.X(v))) > eps && !on_cut(s, v))
+                    marked.push_back(v);
+            }
+        }
+    }
+    std::vector<Index> moved = snap_nodes(s, P, std::move(marked));
     // Faces lie within an edge of the plane (rule 2): search the cells whose bounds come within
     // the largest cell extent near the triangle of its bounding box.
     geometry::Aabb tb;
@@ -330,7 +365,8 @@ std::vector<Index> select_swept_faces(State& s, const SweepPlane& P) {
             faces.push_back(f);
         }
     }
-    const std::vector<Index> moved = snap_face_nodes(s, P, faces);
+    const std::vector<Index> more = snap_face_nodes(s, P, faces);
+    moved.insert(moved.end(), more.begin(), more.end());
     for (Index f : faces) {
         const mesh::Face& face = at(s.m.faces, f);
         const bool on = std::all_of(face.nodes.begin(), face.nodes.end(),
