@@ -140,8 +140,8 @@ StrokeOutcome play(sim::Simulation& s, const std::vector<Blade>& blades) {
 }
 
 /// Cases not met yet (issue 12 is open on them): face snapping on the organ at 0.1 mm per tick
-/// reaches 0.79 (a 1 cm stroke on 6 mm cells: two nodes whose snap would flatten a tet stay off
-/// the blade and the faces around them are not cut).
+/// reaches 0.70 (a 1 cm stroke on 6 mm cells: the curved skin's nodes do not snap, and nodes
+/// whose snap would flatten a tet stay off the blade; the faces around them are not cut).
 const std::vector<std::string> kOpen = { "snap_organ_slow" };
 
 struct Case {

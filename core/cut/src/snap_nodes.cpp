@@ -2,11 +2,9 @@
 // of the current sweep triangle in rest space. An interior node is projected orthogonally. A node
 // on a flat piece of boundary is projected, for each boundary face f around it, onto the line
 // plane(f) ∩ plane(sweep); the projection closest to the node that lies in f wins, so a flat
-// surface keeps its shape. So is a node on a smooth curved surface (its boundary faces' normals
-// within SnapOptions::smooth_boundary_angle of each other): the surface moves within one face's
-// plane, by the local curvature times the move. Going beyond 002, a node on a feature edge (two
-// boundary planes further apart) slides along that edge, and a corner node stays: there the
-// boundary, hence the rest volume, is unchanged. A move that would leave a tet around the node inverted or flatter than
+// surface keeps its shape. Going beyond 002, a node on a feature edge (two boundary planes) slides
+// along that edge, and a corner node (three or more planes) stays: the boundary, hence the rest
+// volume, is unchanged. A move that would leave a tet around the node inverted or flatter than
 // snap_min_aspect is refused (002 sec. 3.4 suggests forbidding inverting moves).
 #include "snap_state.hpp"
 
@@ -59,16 +57,9 @@ std::vector<Vec3> candidates(const State& s, const SweepPlane& P, Index v, doubl
                 [&](const Vec3& q) { return parallel(q, normals.back()); }))
             planes.push_back(normals.back());
     }
-    // A smooth piece of a curved surface (a CGAL-meshed organ: every node has three or more
-    // face planes, none a feature) takes 002's rule too, instead of staying like a corner.
-    double min_dot = 1;
-    for (std::size_t i = 0; i < normals.size(); ++i)
-        for (std::size_t j = i + 1; j < normals.size(); ++j)
-            min_dot = std::min(min_dot, normals[i].dot(normals[j]));
-    const bool smooth = planes.size() == 1 || min_dot >= std::cos(s.opt.smooth_boundary_angle);
     std::vector<Vec3> out;
     const double tol = 1e-9 * s.L;
-    if (smooth) {
+    if (planes.size() == 1) {
         for (std::size_t i = 0; i < bfaces.size(); ++i) {
             const Vec3& nf = normals[i];
             const double c = nf.dot(P.normal);

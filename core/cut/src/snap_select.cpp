@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <unordered_map>
 
 namespace polycut::cut::snap {
@@ -84,12 +85,17 @@ void evaluate(State& s, const SweepPlane& P, Index c, std::vector<Index>& found)
         return;
     // Only where the blade has passed (docs/decisions/0008): a face whose centroid lies beyond
     // the swept surface would extend the cut past the blade's edges.
+    // Such a tet is tried again after each later triangle of the stroke (retry_deferred).
     if (s.opt.snap_nodes) {
         Vec3 mid = Vec3::Zero();
         for (Index n : at(s.m.faces, f).nodes)
             mid += s.X(n) / 3.0;
-        if (!on_swept_surface(s, P, mid - P.distance(mid) * P.normal))
+        if (!on_swept_surface(s, P, mid - P.distance(mid) * P.normal)) {
+            at(s.selected, c) = 0;
+            if (std::find(s.deferred.begin(), s.deferred.end(), c) == s.deferred.end())
+                s.deferred.push_back(c);
             return;
+        }
     }
     if (std::find(s.pending.begin(), s.pending.end(), f) != s.pending.end())
         return;
@@ -136,6 +142,15 @@ std::vector<Index> select_faces(State& s, const SweepPlane& P) {
             evaluate(s, P, c, selected_now);
     }
     return selected_now;
+}
+
+std::vector<Index> retry_deferred(State& s, const SweepPlane& P) {
+    std::vector<Index> found;
+    const std::vector<Index> tets = std::exchange(s.deferred, {});
+    for (Index c : tets)
+        if (c < s.m.num_cells())
+            evaluate(s, P, c, found);
+    return found;
 }
 
 std::vector<Index> mark_snapped_nodes(
@@ -220,21 +235,20 @@ void select_faces_in_plane(State& s, const SweepPlane& P) {
 // sweep. A blade sampled once per tick sweeps strips narrower than a cell, and a blade between
 // two grid planes crosses most tets on one or two edges only, so that rule leaves rows of faces
 // unselected (0 for a 1 cm stroke at 0.1 mm per tick on 1 cm cells). Here each face is judged
-// against the surface the whole stroke has swept (State::swept, reset by end_sweep):
-//   0. the closest node of every edge a sweep triangle crosses goes onto its plane, whether or
-//      not a tet has collected three marks yet: where the snaps succeed no edge crosses the swept
-//      part of the plane any more, so the faces lying in it separate the two sides;
-//   1. an interior face is cut when its centroid, projected onto the plane of a sweep triangle,
-//      lies in that triangle (a point of the union of the stroke's triangles lies in one of
-//      them, so thin strips of many ticks add up; the blade's edges round the cut to whole faces
-//      by centroid, which has no bias), and
+// against the surface the whole stroke has swept (State::swept, reset by end_sweep); an interior
+// face is cut when
+//   1. its centroid, projected onto the plane of a sweep triangle, lies in that triangle (a point
+//      of the union of the stroke's triangles lies in one of them, so thin strips of many ticks
+//      add up; the blade's edges round the cut to whole faces by centroid, which has no bias);
 //   2. each of its nodes lies on that plane or is the closest node of an edge crossing it
-//      (002 sec. 3.2.1's rule, lower id on a tie, applied to the triangle's plane), and
-//   3. once its nodes are snapped onto the plane (002 sec. 3.2.2, with the same boundary rules
-//      and inversion guard), the tets on its two sides lie on opposite sides of the plane.
-// Faces in the plane whose nodes other triangles snapped are cut by select_faces_in_plane under
-// rule 1; 002's per-tet selection (above) still cuts where a snap was refused (a jagged piece),
-// also only under rule 1, so no rule cuts beyond the blade's edges.
+//      (002 sec. 3.2.1's rule, lower id on a tie, applied to the triangle's plane);
+//   3. neither of its tets has a face cut or selected already (a second one would wrap the tet
+//      into a piece of its own), and once its nodes are snapped onto the plane (002 sec. 3.2.2,
+//      same boundary rules and inversion guard) the two tets lie on opposite sides of the plane.
+// This runs after 002's per-tet rule, which still cuts where snaps are refused (jagged pieces),
+// but under rule 1 too: a tet whose marks name a face the blade has not swept yet is deferred
+// and tried again after each later triangle, so no rule cuts beyond the blade's edges. Faces
+// other triangles' snaps put into the plane are cut under rule 1 by select_faces_in_plane.
 // Rule 2 bounds the snap: a node moves at most half the length of an edge of its own, along the
 // plane's normal (or within its boundary faces). Nodes on faces an earlier cut opened stay where
 // they are (moving one copy of a duplicated node would part the two lips in rest space).
@@ -281,6 +295,15 @@ bool on_cut(const State& s, Index v) {
     return false;
 }
 
+// Whether tet c has a face that is cut or selected for cutting.
+bool has_cut_face(const State& s, Index c) {
+    for (Index f : at(s.m.cells, c).faces)
+        if (at(s.m.faces, f).tag == mesh::FaceTag::Cut
+            || std::find(s.pending.begin(), s.pending.end(), f) != s.pending.end())
+            return true;
+    return false;
+}
+
 // Signed distance of the node of tet c that is not on face f.
 double apex(const State& s, const SweepPlane& P, Index c, const std::vector<Index>& face) {
     for (Index n : at(s.m.cells, c).nodes)
@@ -307,25 +330,6 @@ bool on_swept_surface(const State& s, const SweepPlane& P, const Vec3& x) {
 
 std::vector<Index> select_swept_faces(State& s, const SweepPlane& P) {
     const double eps = s.opt.plane_eps * s.L;
-    // Rule 0: the closest node of every edge the triangle crosses goes onto its plane, whether
-    // or not a tet has collected three marks yet: then no edge crosses the swept part of the
-    // plane any more, so the faces in it separate the two sides wherever the blade passed.
-    std::vector<Index> marked;
-    {
-        std::unordered_map<std::uint64_t, char> seen;
-        for (Index c : s.near) {
-            const auto& nodes = at(s.m.cells, c).nodes;
-            for (const auto& [i, j] : kTetEdges) {
-                const Index a = nodes[std::size_t(i)], b = nodes[std::size_t(j)];
-                if (!seen.try_emplace(edge_key(a, b), 0).second)
-                    continue;
-                const Index v = crossing(s, P, eps, a, b);
-                if (v != kNone && std::abs(P.distance(s.X(v))) > eps && !on_cut(s, v))
-                    marked.push_back(v);
-            }
-        }
-    }
-    std::vector<Index> moved = snap_nodes(s, P, std::move(marked));
     // Faces lie within an edge of the plane (rule 2): search the cells whose bounds come within
     // the largest cell extent near the triangle of its bounding box.
     geometry::Aabb tb;
@@ -362,11 +366,14 @@ std::vector<Index> select_swept_faces(State& s, const SweepPlane& P) {
                 continue;
             if (std::find(s.pending.begin(), s.pending.end(), f) != s.pending.end())
                 continue;
+            // A tet keeps at most one face of the cut: a second one, across the tet from a face
+            // 002's rule or an earlier cut chose, would wrap it into a piece of its own.
+            if (has_cut_face(s, face.owner) || has_cut_face(s, face.neighbour))
+                continue;
             faces.push_back(f);
         }
     }
-    const std::vector<Index> more = snap_face_nodes(s, P, faces);
-    moved.insert(moved.end(), more.begin(), more.end());
+    const std::vector<Index> moved = snap_face_nodes(s, P, faces);
     for (Index f : faces) {
         const mesh::Face& face = at(s.m.faces, f);
         const bool on = std::all_of(face.nodes.begin(), face.nodes.end(),

@@ -35,11 +35,6 @@ struct SnapOptions {
     /// Snap the selected faces' nodes onto the sweep (002 sec. 3.2.2); false gives the jagged
     /// cut of 002 Fig. 3.5.
     bool snap_nodes = true;
-    /// A boundary node whose boundary faces' normals are all within this angle [rad] of each
-    /// other lies on a smooth surface and snaps within one of its faces (002 sec. 3.2.2), like a
-    /// node on a flat one; beyond it, two face planes make a feature edge it slides along, more
-    /// make a corner that stays. A CGAL-meshed organ's surface nodes have 3+ planes each.
-    double smooth_boundary_angle = 30.0 * std::numbers::pi / 180.0;
     /// A node move is refused when a tet around the node would get an aspect ratio below this
     /// (or a non-positive volume): a guard against inverted and completely flat tets; flat tets
     /// above it are left to degeneracy removal.
