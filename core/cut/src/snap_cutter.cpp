@@ -358,6 +358,8 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         plane.tri = tri;
         plane.normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
         plane.offset = plane.normal.dot(tri[0]);
+        for (const Vec3& p : tri)
+            plane.box.extend(p);
         s.swept.push_back(plane);
         const Index crossed = s.stats.edges_crossed;
         auto faces = snap::select_faces(s, plane);

@@ -32,6 +32,7 @@ struct SweepPlane {
     Triangle tri;
     Vec3 normal = Vec3::UnitZ(); ///< unit normal
     double offset = 0; ///< [m]
+    geometry::Aabb box; ///< bounds of tri [m]
     double distance(const Vec3& x) const { return normal.dot(x) - offset; }
 };
 
