@@ -280,3 +280,36 @@ TEST(SnapDegenerate, FlatTetsAreCollapsed) {
     EXPECT_GT(collapsed, 0);
     EXPECT_LT(left, found);
 }
+
+TEST(SnapCut, ThinStripsBetweenGridPlanesCutTheWholeSection) {
+    // docs/decisions/0008: a blade between grid planes, sampled every 0.5 mm (strips a 40th of a
+    // cell wide, one call per sample), crosses most tets on one or two edges only; judged against
+    // the whole swept surface, the faces its closest nodes form are cut anyway. The blade spans
+    // the block, so the cut must separate it, with each lip's area the block's section (0.1 x
+    // 0.1 m) to rounding, and every Cut face in the blade's plane.
+    for (double y : { 0.025, 0.0302 }) {
+        auto m = tet_block(5); // 2 cm cells: grid planes at y = 0.02, 0.04
+        const double v0 = m.rest_volume();
+        cut::SnapCutter cutter(m);
+        const auto tris = blade_sweep(
+            Vec3(-0.005, y, -0.01), Vec3(-0.005, y, 0.11), Vec3(5e-4, 0, 0), 222);
+        for (const auto& t : tris)
+            expect_report_consistent(m, cutter.cut(std::span(&t, 1)));
+        expect_report_consistent(m, cutter.finish_sweep());
+        const auto inv = expect_ok(m, v0);
+        EXPECT_EQ(inv.components, 2) << "y = " << y;
+        double area = 0;
+        Index off = 0;
+        for (const auto& f : m.faces) {
+            if (f.tag != mesh::FaceTag::Cut)
+                continue;
+            const Vec3 &a = m.rest[std::size_t(f.nodes[0])], &b = m.rest[std::size_t(f.nodes[1])],
+                       &c = m.rest[std::size_t(f.nodes[2])];
+            area += 0.5 * (b - a).cross(c - a).norm();
+            for (Index k : f.nodes)
+                off += std::abs(m.rest[std::size_t(k)].y() - y) > 1e-12;
+        }
+        EXPECT_NEAR(area / 2, 0.01, 1e-12) << "y = " << y;
+        EXPECT_EQ(off, 0) << "y = " << y;
+    }
+}

@@ -90,6 +90,7 @@ void State::rebuild() {
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
+    deferred.clear();
     pending.clear();
     recent.clear();
     swept.clear();
@@ -298,6 +299,7 @@ void SnapCutter::end_sweep() {
     auto& s = m_impl->s;
     s.marks.assign(s.m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     s.selected.assign(s.m.cells.size(), 0);
+    s.deferred.clear();
     s.pending.clear();
     s.recent.clear();
     s.swept.clear();
@@ -356,19 +358,28 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         plane.tri = tri;
         plane.normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
         plane.offset = plane.normal.dot(tri[0]);
+        s.swept.push_back(plane);
         const Index crossed = s.stats.edges_crossed;
         auto faces = snap::select_faces(s, plane);
         if (s.stats.edges_crossed == crossed)
             ++report.triangles_missed;
+        const auto retried = snap::retry_deferred(s, plane);
+        faces.insert(faces.end(), retried.begin(), retried.end());
         for (int round = 0; round < 8 && s.opt.snap_nodes && !faces.empty(); ++round) {
             const auto moved = snap::snap_face_nodes(s, plane, faces);
             faces = snap::mark_snapped_nodes(s, plane, moved);
+        }
+        if (s.opt.snap_nodes) {
+            // Then the faces of the swept surface that 002's per-tet rule has not reached
+            // (docs/decisions/0008).
+            auto moved = snap::select_swept_faces(s, plane);
+            for (int round = 0; round < 8 && !moved.empty(); ++round)
+                moved = snap::snap_face_nodes(s, plane, snap::mark_snapped_nodes(s, plane, moved));
         }
         // Faces snapped into the plane of an earlier triangle by this one are selected too.
         if (s.recent.size() == 4)
             s.recent.erase(s.recent.begin());
         s.recent.push_back(plane);
-        s.swept.push_back(plane);
         for (const auto& p : s.recent)
             snap::select_faces_in_plane(s, p);
         snap::dissect_pending(s);

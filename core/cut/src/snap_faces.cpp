@@ -55,6 +55,11 @@ std::vector<Index> rebuild_faces(Model& md) {
         s.cell_old[to] = s.cell_old[from];
         s.cell_parent[to] = s.cell_parent[from];
     }
+    std::vector<Index> deferred;
+    for (Index c : s.deferred)
+        if (c < Index(cmap.size()) && at(cmap, c) != kNone)
+            deferred.push_back(at(cmap, c));
+    s.deferred = std::move(deferred);
     for (auto* v : { &s.cell_old, &s.cell_parent })
         v->resize(std::size_t(nc));
     m.cells.resize(std::size_t(nc));

@@ -101,12 +101,16 @@ std::vector<Vec3> candidates(const State& s, const SweepPlane& P, Index v, doubl
 } // namespace
 
 std::vector<Index> snap_face_nodes(State& s, const SweepPlane& P, const std::vector<Index>& faces) {
-    std::vector<Index> moved;
-    const double eps = s.opt.plane_eps * s.L;
     std::vector<Index> nodes;
     for (Index f : faces)
         for (Index n : at(s.m.faces, f).nodes)
             nodes.push_back(n);
+    return snap_nodes(s, P, std::move(nodes));
+}
+
+std::vector<Index> snap_nodes(State& s, const SweepPlane& P, std::vector<Index> nodes) {
+    std::vector<Index> moved;
+    const double eps = s.opt.plane_eps * s.L;
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     for (Index v : nodes) {

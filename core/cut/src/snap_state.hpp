@@ -51,6 +51,9 @@ struct State {
     /// Per tet and local edge: local node marked as closest to the first sweep crossing, or -1.
     std::vector<std::array<std::int8_t, 6>> marks;
     std::vector<char> selected; ///< per tet: a face was already selected from its marks
+    /// Tets whose marks name a face the blade has not swept yet (docs/decisions/0008), retried
+    /// after each triangle of the stroke.
+    std::vector<Index> deferred;
     std::vector<Index> pending; ///< selected interior faces not dissected yet, in selection order
     std::vector<Index> near; ///< tets whose bounds overlap the current triangle
     std::vector<SweepPlane> recent; ///< the last triangles of the sweep, newest last
@@ -98,6 +101,9 @@ double tet_mesh_volume(const mesh::Mesh& m);
 // selected interior faces (appended to pending as well).
 std::vector<Index> select_faces(State& s, const SweepPlane& plane);
 
+/// Evaluates the deferred tets again (the swept surface has grown); returns the faces selected.
+std::vector<Index> retry_deferred(State& s, const SweepPlane& plane);
+
 /// Marks the edges at freshly snapped nodes (they meet the sweep at the node) and returns the
 /// faces this completes.
 std::vector<Index> mark_snapped_nodes(
@@ -110,6 +116,18 @@ void select_faces_in_plane(State& s, const SweepPlane& plane);
 // nodes moved.
 std::vector<Index> snap_face_nodes(
     State& s, const SweepPlane& plane, const std::vector<Index>& faces);
+/// Snaps `nodes` (any order, duplicates allowed) onto the sweep plane; returns the nodes moved.
+std::vector<Index> snap_nodes(State& s, const SweepPlane& plane, std::vector<Index> nodes);
+
+// snap_select.cpp, second part: the stroke as one swept surface (docs/decisions/0008). Selects
+// the interior faces whose centroid the triangle sweeps and whose nodes are closest nodes of edges
+// crossing its plane, snaps those nodes onto the plane and appends the faces that now separate
+// tets on opposite sides to pending; returns the nodes moved.
+std::vector<Index> select_swept_faces(State& s, const SweepPlane& plane);
+
+/// Whether x lies on the swept surface of the stroke so far: within eps of the plane of a
+/// triangle of State::swept parallel to `plane` and inside it.
+bool on_swept_surface(const State& s, const SweepPlane& plane, const Vec3& x);
 
 // snap_dissect.cpp: dissects the pending faces that do not pinch an edge.
 void dissect_pending(State& s);

@@ -15,12 +15,16 @@
 // behind the fine one.
 //
 // With T > 1 threads (set_threads) the finest level is split into T contiguous row blocks and
-// smoothed by hybrid Gauss-Seidel: Gauss-Seidel inside a block, Jacobi across blocks (entries
-// in other blocks' columns use the values from before the sweep). Forward down and backward up
-// stay adjoint (D + L_B and D + U_B = (D + L_B)^T with L_B the block-diagonal strict lower
-// part), so the cycle stays symmetric; on a mesh numbered for locality few entries cross
-// blocks and the smoother is nearly the serial one. The result depends on T only; T = 1 is
-// the serial cycle.
+// smoothed by l1 hybrid Gauss-Seidel (as hypre's relax types 13/14; Baker, Falgout, Kolev &
+// Yang 2011, SIAM J. Sci. Comput. 33: 2864-2887): Gauss-Seidel inside a block, Jacobi across
+// blocks (entries in other blocks' columns use the values from before the sweep), and each
+// row's diagonal grown by the absolute sum of its entries in other blocks' columns. Forward down
+// and backward up stay adjoint (D_l1 + L_B and D_l1 + U_B = (D_l1 + L_B)^T, L_B the
+// block-diagonal strict lower part), so the cycle stays symmetric, and the l1 term makes the
+// smoother convergent for any SPD A (M + M^T - A >= D), so the cycle stays positive definite;
+// plain hybrid Gauss-Seidel does not (it lost definiteness after cuts on the organ). On a mesh
+// numbered for locality few rows cross blocks and the smoother is nearly the serial one. The
+// result depends on T only; T = 1 is the serial cycle.
 #pragma once
 
 #include "polycut/solve/sparse.hpp"
@@ -95,6 +99,7 @@ private:
     std::vector<int> m_block_rows; ///< T + 1 row bounds of the fine blocks
     std::vector<int> m_block_begin, m_block_end; ///< fine rows: own-block column slots
     Vector m_cross; ///< fine rows: sum over other blocks' columns before the up-sweep
+    Vector m_fine_l1; ///< fine rows: sum of |a_ij| over other blocks' columns (l1 smoothing)
 };
 
 } // namespace polycut::solve::detail
