@@ -450,3 +450,38 @@ TEST(Amg, IndefiniteAndNonFiniteInputsAreReported) {
         EXPECT_EQ(pcg.solve(s.K, bad, x).status, SolveStatus::NonFinite);
     }
 }
+
+TEST(Amg, ThreadedCycleConvergesWhereHybridSmoothingDoesNot) {
+    // A = [[K, bK], [bK, K]] with K = tridiag(-1, 2.01, -1) and b = 0.99 is SPD (eigenvalues
+    // (1 +- b) eig(K) > 0), but hybrid Gauss-Seidel with the two thread blocks = the two halves
+    // converges only if b ||D^-1/2 K D^-1/2|| < 1 (b < ~0.5 here). The threaded solve must still
+    // reach the tolerance (here PCG does, with or without the serial fallback of
+    // solve::PcgSolver; tests/sim/test_organ_cut_threads.cpp is the case where it needs it).
+    const int m = 300;
+    std::vector<Eigen::Triplet<double>> t;
+    for (int half = 0; half < 2; ++half)
+        for (int i = 0; i < m; ++i) {
+            for (int other = 0; other < 2; ++other) {
+                const double w = half == other ? 1.0 : 0.99;
+                const int r = half * m + i, c = other * m + i;
+                t.emplace_back(r, c, 2.01 * w);
+                if (i > 0)
+                    t.emplace_back(r, c - 1, -w);
+                if (i + 1 < m)
+                    t.emplace_back(r, c + 1, -w);
+            }
+        }
+    SparseMatrix A(2 * m, 2 * m);
+    A.setFromTriplets(t.begin(), t.end());
+    A.makeCompressed();
+    const Vector b = random_vector(A.rows(), 5);
+    PcgOptions o = amg_options(1e-8);
+    o.refactor_iterations = 1000;
+    o.max_iterations = 2000;
+    o.threads = 2;
+    PcgSolver two(o);
+    Vector x;
+    const PcgResult r = two.solve(A, b, x);
+    ASSERT_EQ(r.status, SolveStatus::Ok);
+    EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
+}
