@@ -12,6 +12,7 @@
 // settling (default 10). One JSON object per scene on stdout:
 //   nodes, cells (before/after), cutter
 //   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)
+//   solve_ms, its {median, p99, max}               the step's linear solves [ms], PCG iterations
 //   ticks_over_16_7, ticks_over_50                 ticks above the 60 Hz budget / the 50 ms bound
 //   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
 //   undo_reasons                                   the warnings of the first undone cuts
@@ -78,7 +79,7 @@ json run(const std::string& path, const Args& a) {
         const double x = lo.x() + size.x() * (0.2 + 0.6 * double(k) / double(a.ticks - 1));
         return std::pair<Vec3, Vec3> { Vec3(x, y, top), Vec3(x, y, bottom) };
     };
-    std::vector<double> cut_ms, step_ms, tick_ms;
+    std::vector<double> cut_ms, step_ms, tick_ms, its, solve_ms;
     int failed = 0, undone = 0, over_budget = 0, over_50 = 0;
     std::vector<std::string> reasons; // the first few undone cuts' warnings
     const long cells_before = s.cell_count();
@@ -121,6 +122,8 @@ json run(const std::string& path, const Args& a) {
         if (r.cut_undone && reasons.size() < 3 && !r.warnings.empty())
             reasons.push_back(r.warnings.front());
         cut_ms.push_back(cut);
+        its.push_back(double(r.solver_iterations));
+        solve_ms.push_back(r.solve_ms);
         step_ms.push_back(total - cut);
         tick_ms.push_back(total);
         over_budget += total > 1000.0 / 60.0 ? 1 : 0;
@@ -130,7 +133,8 @@ json run(const std::string& path, const Args& a) {
     return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
         { "cells_before", cells_before }, { "cells_after", s.cell_count() },
         { "ticks", a.ticks }, { "cut_ms", percentiles(cut_ms) },
-        { "step_ms", percentiles(step_ms) }, { "tick_ms", percentiles(tick_ms) },
+        { "step_ms", percentiles(step_ms) },
+        { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) }, { "tick_ms", percentiles(tick_ms) },
         { "ticks_over_16_7", over_budget }, { "ticks_over_50", over_50 },
         { "completeness", st.completeness() }, { "failed_cuts", failed }, { "undone", undone },
         { "undo_reasons", reasons } };

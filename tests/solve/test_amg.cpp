@@ -485,3 +485,60 @@ TEST(Amg, ThreadedCycleConvergesWhereHybridSmoothingDoesNot) {
     ASSERT_EQ(r.status, SolveStatus::Ok);
     EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
 }
+
+TEST(Amg, HierarchyCarriedOverARenumberingSolvesWithoutASetUp) {
+    // What a cut does to the step matrix: unknowns renumbered (here the last node's three rows
+    // move to the front) and new ones appended (three rows coupled to the first node). The
+    // remapped hierarchy (zero interpolation rows for the new unknowns) must still precondition
+    // PCG to the tolerance without a new set-up.
+    const BoxSystem s = box_system(8);
+    const double h = 0.01, beta = 0.01;
+    SparseMatrix A = (h * h + h * beta) * s.K;
+    A.diagonal() += s.mass;
+    const long n = A.rows();
+    PcgOptions o = amg_options(1e-8);
+    o.refactor_iterations = 1000;
+    PcgSolver pcg(o);
+    Vector x;
+    ASSERT_EQ(pcg.solve(A, random_vector(n, 3), x).status, SolveStatus::Ok);
+    ASSERT_EQ(pcg.refactorizations(), 1);
+    // new row r <- old row old_of[r]
+    std::vector<long> old_of;
+    for (long i = n - 3; i < n; ++i)
+        old_of.push_back(i);
+    for (long i = 0; i < n - 3; ++i)
+        old_of.push_back(i);
+    for (int k = 0; k < 3; ++k)
+        old_of.push_back(-1);
+    const long m = long(old_of.size());
+    std::vector<long> new_of(static_cast<std::size_t>(n), 0);
+    for (long r = 0; r < m; ++r)
+        if (old_of[std::size_t(r)] >= 0)
+            new_of[std::size_t(old_of[std::size_t(r)])] = r;
+    std::vector<Eigen::Triplet<double>> t;
+    for (int c = 0; c < A.outerSize(); ++c)
+        for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+            t.emplace_back(int(new_of[std::size_t(it.row())]), int(new_of[std::size_t(c)]),
+                it.value());
+    const double a00 = A.coeff(0, 0);
+    for (int k = 0; k < 3; ++k) {
+        const int r = int(n) + k, first = int(new_of[std::size_t(k)]);
+        t.emplace_back(r, r, a00);
+        t.emplace_back(r, first, -0.3 * a00);
+        t.emplace_back(first, r, -0.3 * a00);
+        t.emplace_back(first, first, 0.3 * a00); // keeps the row diagonally dominant
+    }
+    SparseMatrix B(m, m);
+    B.setFromTriplets(t.begin(), t.end());
+    B.makeCompressed();
+    ASSERT_TRUE(pcg.remap_preconditioner(old_of));
+    const Vector b = random_vector(m, 4);
+    Vector y;
+    const PcgResult r = pcg.solve(B, b, y);
+    ASSERT_EQ(r.status, SolveStatus::Ok);
+    EXPECT_FALSE(r.refactored);
+    EXPECT_EQ(pcg.refactorizations(), 1);
+    EXPECT_LE(Vector(B * y - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
+    // 27 iterations; the same hierarchy with its rows left at their old numbers needs 37
+    EXPECT_LE(r.iterations, 30);
+}

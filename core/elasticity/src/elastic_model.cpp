@@ -155,6 +155,7 @@ void ElasticModel::rebuild_mass() {
 }
 
 void ElasticModel::rebuild_topology() {
+    m_renumber_base = m_topology_version + 1; // the version rebuild_pattern() is about to make
     const Index n = m_mesh->num_nodes();
     m_fixed.resize(3 * std::size_t(n), 0);
     m_cells.assign(std::size_t(m_mesh->num_cells()), CellData {});

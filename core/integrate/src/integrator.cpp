@@ -130,10 +130,25 @@ void Integrator::set_external_forces(VecX f_ext) {
 void Integrator::ensure_topology(StepReport& report) {
     if (m_model->topology_version() == m_topology)
         return;
+    const std::uint64_t before = m_topology;
     m_topology = m_model->topology_version();
     m_K = m_model->make_matrix();
     m_A = m_model->make_matrix();
-    m_solver.reset();
+    // A cut that kept the node ids keeps the AMG hierarchy, carried over to the new DOF
+    // numbering through the old dof map (issue 12 item 5: no blocking set-up per cut; the
+    // lagged set-up rule sets up again when solves need it).
+    bool kept = false;
+    if (!m_lagged && before != ~std::uint64_t(0) && m_model->nodes_kept_since(before)) {
+        const auto& now = m_model->dof_map();
+        std::vector<long> old_of(std::size_t(m_model->num_free_dofs()), -1);
+        for (std::size_t k = 0; k < now.size(); ++k)
+            if (now[k] != kNone && k < m_dof_map_then.size() && m_dof_map_then[k] != kNone)
+                old_of[std::size_t(now[k])] = long(m_dof_map_then[k]);
+        kept = m_solver.remap(old_of);
+    }
+    m_dof_map_then = m_model->dof_map();
+    if (!kept)
+        m_solver.reset();
     if (m_lagged) {
         // New pattern: the running job (if any) is for the old one. The next solve starts the
         // new factor in the background unless there never was a factor (the first solve

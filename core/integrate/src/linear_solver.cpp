@@ -35,6 +35,10 @@ LinearSolver::LinearSolver(const SolverOptions& options)
     : m_options(options)
     , m_pcg(pcg_options(options)) { }
 
+bool LinearSolver::remap(const std::vector<long>& old_of) {
+    return m_options.kind == LinearSolverKind::PcgAmg && m_pcg.remap_preconditioner(old_of);
+}
+
 void LinearSolver::reset() {
     m_cholmod = solve::CholmodSolver();
     m_pcg.reset();

@@ -255,6 +255,29 @@ bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
     return true;
 }
 
+bool AmgCycle::remap(const std::vector<long>& old_of) {
+    if (m_levels.empty())
+        return false;
+    SortedCsr& P = m_levels.front().P;
+    SortedCsr Q;
+    Q.rows = int(old_of.size());
+    Q.ptr.assign(old_of.size() + 1, 0);
+    for (std::size_t r = 0; r < old_of.size(); ++r) {
+        const long o = old_of[r];
+        if (o >= 0 && o < P.rows)
+            for (int k = P.ptr[std::size_t(o)]; k < P.ptr[std::size_t(o) + 1]; ++k) {
+                Q.column.push_back(P.column[std::size_t(k)]);
+                Q.value.push_back(P.value[std::size_t(k)]);
+            }
+        Q.ptr[r + 1] = int(Q.column.size());
+    }
+    P = std::move(Q);
+    m_ready = false; // apply() runs finish() on the new matrix
+    m_fine_rows = -1;
+    m_block_rows.clear();
+    return true;
+}
+
 void AmgCycle::set_threads(int threads) {
     m_threads = std::max(threads, 1);
     m_block_rows.clear(); // the blocks are found again by the next apply()

@@ -302,6 +302,13 @@ struct AmgPreconditioner::Impl {
         return cycle.finish(A);
     }
 
+    bool remap(const std::vector<long>& old_of) {
+        if (!use_cycle || n < 0 || !cycle.remap(old_of))
+            return false;
+        n = long(old_of.size());
+        return true;
+    }
+
     SolveStatus apply(const SparseMatrix& A, const Vector& r, Vector& z) {
         if (n < 0 || r.size() != n)
             return SolveStatus::NotReady;
@@ -347,6 +354,7 @@ struct AmgPreconditioner::Impl {
     void set_threads(int) { }
     SolveStatus setup(const SparseMatrix&) { return SolveStatus::NotReady; }
     SolveStatus apply(const SparseMatrix&, const Vector&, Vector&) { return SolveStatus::NotReady; }
+    bool remap(const std::vector<long>&) { return false; }
     int levels() const { return 0; }
 };
 
@@ -387,6 +395,10 @@ const std::string& AmgPreconditioner::error() const {
 
 void AmgPreconditioner::clear() {
     m_impl->clear();
+}
+
+bool AmgPreconditioner::remap(const std::vector<long>& old_of) {
+    return m_impl->remap(old_of);
 }
 
 } // namespace polycut::solve::detail

@@ -42,6 +42,10 @@ public:
     const std::string& error() const;
     /// Drops the hierarchy.
     void clear();
+    /// Keeps the hierarchy for a matrix whose unknowns a cut renumbered (row r was old_of[r],
+    /// -1 new): see AmgCycle::remap. False (hierarchy unchanged) when not possible (hypre's own
+    /// cycle, no coarse level): set up again then.
+    bool remap(const std::vector<long>& old_of);
 
 private:
     struct Impl;

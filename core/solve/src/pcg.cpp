@@ -441,6 +441,11 @@ void PcgSolver::set_coordinates(const Vector& coordinates) {
         m_impl->amg.set_coordinates(coordinates);
 }
 
+bool PcgSolver::remap_preconditioner(const std::vector<long>& old_of) {
+    Impl& impl = *m_impl;
+    return impl.options.preconditioner == Preconditioner::Amg && impl.amg.remap(old_of);
+}
+
 long PcgSolver::amg_serial_fallbacks() const {
     return m_impl->serial_fallbacks;
 }

@@ -92,6 +92,11 @@ public:
     void set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs);
     /// Incremented whenever the pattern (and DOF numbering) changes.
     std::uint64_t topology_version() const { return m_topology_version; }
+    /// Whether the node ids are the same as at topology version `version` (cuts that only
+    /// edited cells and appended nodes; not after rebuild_topology(), which a renumbering or an
+    /// undo calls): then full DOF k means the same node and axis, and a preconditioner of then
+    /// can be carried over through the old dof_map() instead of rebuilt.
+    bool nodes_kept_since(std::uint64_t version) const { return version >= m_renumber_base; }
     /// Incremented whenever cell data (rest shape, Ke) or the fixed DOFs change (update_cells,
     /// rebuild_topology, set_fixed_dofs): a cached stiffness is stale after it moves.
     std::uint64_t cell_version() const { return m_cell_version; }
@@ -151,6 +156,8 @@ private:
     std::vector<std::size_t> m_scatter_offset;
     std::vector<int> m_scatter;
     std::vector<Index> m_diag_slots;
+    /// Topology version since which node ids are stable (see nodes_kept_since()).
+    std::uint64_t m_renumber_base = 0;
     // Node-level pattern: neighbours of each node (CSR, sorted), where each neighbour's rows
     // start within the node's columns, and the column length.
     std::vector<std::size_t> m_nb_offset;

@@ -82,6 +82,7 @@ private:
     LaggedStatus m_lagged_status;
     VecX m_fext; ///< full (3#N)
     std::uint64_t m_topology = ~std::uint64_t(0);
+    std::vector<Index> m_dof_map_then; ///< the model's dof map at m_topology
     double m_divergence_limit = 0;
     // Work arrays, reused between steps.
     solve::SparseMatrix m_K, m_A;

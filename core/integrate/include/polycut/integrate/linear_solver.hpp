@@ -25,6 +25,10 @@ public:
     explicit LinearSolver(const SolverOptions& options);
     /// Forget factors and preconditioners (after a sparsity pattern change).
     void reset();
+    /// After a cut renumbered the unknowns (row r was old_of[r], -1 new): keep the
+    /// preconditioner if it can be (AMG; solve::PcgSolver::remap_preconditioner). False: call
+    /// reset().
+    bool remap(const std::vector<long>& old_of);
     LinearSolveResult solve(const solve::SparseMatrix& A, const solve::Vector& b, solve::Vector& x);
     /// PcgAmg with rigid-body modes: node coordinates of the reduced DOFs (see
     /// solve::PcgSolver::set_coordinates) [m].

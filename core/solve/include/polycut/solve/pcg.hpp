@@ -8,6 +8,7 @@
 #include "polycut/solve/sparse.hpp"
 
 #include <memory>
+#include <vector>
 #include <string>
 
 namespace polycut::solve {
@@ -71,6 +72,12 @@ public:
     const PcgOptions& options() const;
     /// Forget the preconditioner (call after a sparsity pattern change).
     void reset();
+    /// After a cut renumbered the unknowns (row r of the new system was old_of[r] of the old
+    /// one, -1 for a new unknown): keep the AMG hierarchy, carried over to the new numbering,
+    /// instead of setting it up again (issue 12 item 5: a cut must not cost a blocking set-up;
+    /// the lagged set-up rule sets up again when the solves need it). False when the
+    /// preconditioner cannot be kept (not AMG, no hierarchy): then call reset().
+    bool remap_preconditioner(const std::vector<long>& old_of);
     /// Solves A x = b from the initial guess x. A: symmetric positive definite, full storage.
     /// x: initial guess, replaced by zero if its size differs from A's or it is not finite;
     /// b = 0 gives x = 0 in 0 iterations. Status NotConverged at max_iterations (x is the last
