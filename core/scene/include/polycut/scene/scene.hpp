@@ -147,7 +147,10 @@ struct Sweep {
 struct Cutting {
     std::string method = "split"; ///< "split" (cell splitting, 000 sec. 5; default except for tet)
                                   ///< or "snap" (face snapping, 002; default for tet)
-    double snap_distance = 1e-3; ///< node snapping distance, relative to the local cell thickness
+    /// node snapping distance, relative to the local cell thickness; larger than the cutter's
+    /// own default (CutOptions::snap, for exact rest-space cuts) because scene blades reach rest
+    /// space through a fit of the deformed body (docs/scenes.md)
+    double snap_distance = 1e-2;
     double sliver_volume
         = 1e-3; ///< cells below this fraction of their largest interior neighbour are merged
     std::vector<Sweep> sweeps;
