@@ -47,7 +47,8 @@ json percentiles(std::vector<double> v) {
     if (v.empty())
         return json::object();
     std::sort(v.begin(), v.end());
-    auto at = [&](double q) { return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))]; };
+    auto at
+        = [&](double q) { return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))]; };
     return { { "median", at(0.5) }, { "p99", at(0.99) }, { "max", v.back() } };
 }
 
@@ -63,7 +64,8 @@ json run(const std::string& path, const Args& a) {
         j["method"] = "mvc";
         j["cutting"] = { { "method", "split" } };
     }
-    scene::Scene sc = scene::parse_scene(j.dump(), std::filesystem::path(path).parent_path().string());
+    scene::Scene sc
+        = scene::parse_scene(j.dump(), std::filesystem::path(path).parent_path().string());
     sim::Simulation s(std::move(sc));
     for (int k = 0; k < a.settle; ++k)
         s.step();
@@ -87,9 +89,7 @@ json run(const std::string& path, const Args& a) {
     bool held = false;
     auto sweep = [&](const std::pair<Vec3, Vec3>& q) {
         try {
-            const sim::CutSummary r = s.cut({ { last.first, last.second, q.first },
-                { last.second, q.second, q.first } });
-            (void)r;
+            s.cut({ { last.first, last.second, q.first }, { last.second, q.second, q.first } });
         } catch (const std::exception&) {
             ++failed;
         }
@@ -100,8 +100,8 @@ json run(const std::string& path, const Args& a) {
         Stopwatch tick;
         if (k < a.ticks) {
             const auto q = blade(k);
-            const double advance = std::max(
-                (q.first - last.first).norm(), (q.second - last.second).norm());
+            const double advance
+                = std::max((q.first - last.first).norm(), (q.second - last.second).norm());
             if (advance < s.blade_min_advance())
                 held = true;
             else
@@ -131,13 +131,12 @@ json run(const std::string& path, const Args& a) {
     }
     const sim::MeshStats st = s.mesh_stats();
     return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
-        { "cells_before", cells_before }, { "cells_after", s.cell_count() },
-        { "ticks", a.ticks }, { "cut_ms", percentiles(cut_ms) },
-        { "step_ms", percentiles(step_ms) },
-        { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) }, { "tick_ms", percentiles(tick_ms) },
-        { "ticks_over_16_7", over_budget }, { "ticks_over_50", over_50 },
-        { "completeness", st.completeness() }, { "failed_cuts", failed }, { "undone", undone },
-        { "undo_reasons", reasons } };
+        { "cells_before", cells_before }, { "cells_after", s.cell_count() }, { "ticks", a.ticks },
+        { "cut_ms", percentiles(cut_ms) }, { "step_ms", percentiles(step_ms) },
+        { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) },
+        { "tick_ms", percentiles(tick_ms) }, { "ticks_over_16_7", over_budget },
+        { "ticks_over_50", over_50 }, { "completeness", st.completeness() },
+        { "failed_cuts", failed }, { "undone", undone }, { "undo_reasons", reasons } };
 }
 
 } // namespace

@@ -291,8 +291,8 @@ TEST(SnapCut, ThinStripsBetweenGridPlanesCutTheWholeSection) {
         auto m = tet_block(5); // 2 cm cells: grid planes at y = 0.02, 0.04
         const double v0 = m.rest_volume();
         cut::SnapCutter cutter(m);
-        const auto tris = blade_sweep(
-            Vec3(-0.005, y, -0.01), Vec3(-0.005, y, 0.11), Vec3(5e-4, 0, 0), 222);
+        const auto tris
+            = blade_sweep(Vec3(-0.005, y, -0.01), Vec3(-0.005, y, 0.11), Vec3(5e-4, 0, 0), 222);
         for (const auto& t : tris)
             expect_report_consistent(m, cutter.cut(std::span(&t, 1)));
         expect_report_consistent(m, cutter.finish_sweep());

@@ -84,8 +84,8 @@ std::vector<Blade> stroke(
 
 /// A straight stroke from (x0, y0) to (x1, y1) in the horizontal plane, the blade vertical from
 /// z_high down to z_low, `samples` positions.
-std::vector<Blade> slanted_stroke(double x0, double y0, double x1, double y1, double z_low,
-    double z_high, int samples) {
+std::vector<Blade> slanted_stroke(
+    double x0, double y0, double x1, double y1, double z_low, double z_high, int samples) {
     std::vector<Blade> out;
     for (int k = 0; k < samples; ++k) {
         const double t = double(k) / double(samples - 1);

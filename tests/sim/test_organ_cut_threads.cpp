@@ -1,7 +1,7 @@
 // Cutting the shipped 5k-node organ with its own solver settings (AMG PCG on two threads): no cut
-// may be undone. The threaded AMG cycle (hybrid Gauss-Seidel on the finest level) was not
+// may be undone. The threaded AMG cycle (plain hybrid Gauss-Seidel on the finest level) was not
 // positive definite on some matrices after cuts, PCG stopped, and 14 of 60 cuts of this stroke
-// were undone; a solve now falls back to the serial cycle (solve::PcgSolver). Face snapping, a
+// were undone; the finest level is now l1 hybrid Gauss-Seidel (amg_cycle.cpp). Face snapping, a
 // stroke of 30 ticks at y = centre + 2.5 mm, 40 % of the height deep, samples held as the
 // server does (bench_cut plays the same stroke).
 #include "polycut/scene/scene.hpp"
@@ -44,8 +44,8 @@ TEST(OrganCut, TwoThreadsNeverUndoACut) {
         const auto q = at(k);
         if (std::max((q.first - last.first).norm(), (q.second - last.second).norm())
             >= s.blade_min_advance()) {
-            EXPECT_NO_THROW(s.cut({ { last.first, last.second, q.first },
-                { last.second, q.second, q.first } }));
+            EXPECT_NO_THROW(s.cut(
+                { { last.first, last.second, q.first }, { last.second, q.second, q.first } }));
             last = q;
         }
         const sim::StepReport r = s.step();

@@ -454,9 +454,8 @@ TEST(Amg, IndefiniteAndNonFiniteInputsAreReported) {
 TEST(Amg, ThreadedCycleConvergesWhereHybridSmoothingDoesNot) {
     // A = [[K, bK], [bK, K]] with K = tridiag(-1, 2.01, -1) and b = 0.99 is SPD (eigenvalues
     // (1 +- b) eig(K) > 0), but hybrid Gauss-Seidel with the two thread blocks = the two halves
-    // converges only if b ||D^-1/2 K D^-1/2|| < 1 (b < ~0.5 here). The threaded solve must still
-    // reach the tolerance (here PCG does, with or without the serial fallback of
-    // solve::PcgSolver; tests/sim/test_organ_cut_threads.cpp is the case where it needs it).
+    // converges only if b ||D^-1/2 K D^-1/2|| < 1 (b < ~0.5 here). The threaded solve (l1 hybrid
+    // Gauss-Seidel on the finest level) must still reach the tolerance.
     const int m = 300;
     std::vector<Eigen::Triplet<double>> t;
     for (int half = 0; half < 2; ++half)
@@ -518,8 +517,8 @@ TEST(Amg, HierarchyCarriedOverARenumberingSolvesWithoutASetUp) {
     std::vector<Eigen::Triplet<double>> t;
     for (int c = 0; c < A.outerSize(); ++c)
         for (SparseMatrix::InnerIterator it(A, c); it; ++it)
-            t.emplace_back(int(new_of[std::size_t(it.row())]), int(new_of[std::size_t(c)]),
-                it.value());
+            t.emplace_back(
+                int(new_of[std::size_t(it.row())]), int(new_of[std::size_t(c)]), it.value());
     const double a00 = A.coeff(0, 0);
     for (int k = 0; k < 3; ++k) {
         const int r = int(n) + k, first = int(new_of[std::size_t(k)]);

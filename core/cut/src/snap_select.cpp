@@ -7,11 +7,22 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <unordered_map>
+#include <utility>
 
 namespace polycut::cut::snap {
 namespace {
+// Whether Q (in the plane of P) lies in P's triangle, up to eps [m] outside its edges.
+bool in_sweep_triangle(const SweepPlane& P, const Vec3& Q, double eps) {
+    for (int k = 0; k < 3; ++k) {
+        const Vec3& p = P.tri[std::size_t(k)];
+        const Vec3& q = P.tri[std::size_t((k + 1) % 3)];
+        if ((q - p).cross(Q - p).dot(P.normal) < -eps * (q - p).norm())
+            return false;
+    }
+    return true;
+}
+
 // Node marked on edge (a, b), or kNone if the triangle does not cross it. Edges lying in the
 // plane are ignored: their nodes are marked by the edges that reach the plane at them.
 Index crossing(const State& s, const SweepPlane& P, double eps, Index a, Index b) {
@@ -27,13 +38,8 @@ Index crossing(const State& s, const SweepPlane& P, double eps, Index a, Index b
     if ((da > 0 && db > 0) || (da < 0 && db < 0))
         return kNone;
     const double t = da == 0 ? 0.0 : (db == 0 ? 1.0 : da / (da - db));
-    const Vec3 Q = Xa + t * (Xb - Xa);
-    for (int k = 0; k < 3; ++k) {
-        const Vec3& p = P.tri[std::size_t(k)];
-        const Vec3& q = P.tri[std::size_t((k + 1) % 3)];
-        if ((q - p).cross(Q - p).dot(P.normal) < -eps * (q - p).norm())
-            return kNone;
-    }
+    if (!in_sweep_triangle(P, Xa + t * (Xb - Xa), eps))
+        return kNone;
     if (t < 0.5)
         return a;
     if (t > 0.5)
@@ -187,15 +193,6 @@ void select_faces_in_plane(State& s, const SweepPlane& P) {
     // face lies in the sweep between tets on opposite sides of it; left uncut it would bridge
     // the incision, so it is selected as well (an addition to 002 sec. 3.2.1).
     const double eps = s.opt.plane_eps * s.L;
-    auto in_triangle = [&](const Vec3& Q) {
-        for (int k = 0; k < 3; ++k) {
-            const Vec3& p = P.tri[std::size_t(k)];
-            const Vec3& q = P.tri[std::size_t((k + 1) % 3)];
-            if ((q - p).cross(Q - p).dot(P.normal) < -eps * (q - p).norm())
-                return false;
-        }
-        return true;
-    };
     auto apex = [&](Index c, const std::vector<Index>& face) {
         for (Index n : at(s.m.cells, c).nodes)
             if (std::find(face.begin(), face.end(), n) == face.end())
@@ -215,7 +212,7 @@ void select_faces_in_plane(State& s, const SweepPlane& P) {
             }
             // In any triangle of the stroke in this plane: the faces snapped in here may lie
             // where earlier, thinner strips of the sweep passed.
-            if (!on || !(in_triangle(mid) || on_swept_surface(s, P, mid)))
+            if (!on || !(in_sweep_triangle(P, mid, eps) || on_swept_surface(s, P, mid)))
                 continue;
             const double d1 = apex(face.owner, face.nodes), d2 = apex(face.neighbour, face.nodes);
             if (!((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)))
@@ -255,15 +252,6 @@ void select_faces_in_plane(State& s, const SweepPlane& P) {
 
 namespace polycut::cut::snap {
 namespace {
-bool in_sweep_triangle(const SweepPlane& P, const Vec3& Q, double eps) {
-    for (int k = 0; k < 3; ++k) {
-        const Vec3& p = P.tri[std::size_t(k)];
-        const Vec3& q = P.tri[std::size_t((k + 1) % 3)];
-        if ((q - p).cross(Q - p).dot(P.normal) < -eps * (q - p).norm())
-            return false;
-    }
-    return true;
-}
 
 // Rule 2: v lies on the plane, or some edge at v crosses it and v is its closer end.
 bool closest_node(const State& s, const SweepPlane& P, double eps, Index v) {
@@ -322,9 +310,9 @@ bool opposite(const State& s, const SweepPlane& P, const mesh::Face& face, doubl
 bool on_swept_surface(const State& s, const SweepPlane& P, const Vec3& x) {
     const double eps = s.opt.plane_eps * s.L;
     for (const SweepPlane& R : s.swept)
-        if ((x.array() >= R.box.lo.array() - eps).all() && (x.array() <= R.box.hi.array() + eps).all()
-            && R.normal.dot(P.normal) >= 1 - 1e-9 && std::abs(R.distance(x)) <= eps
-            && in_sweep_triangle(R, x, eps))
+        if ((x.array() >= R.box.lo.array() - eps).all()
+            && (x.array() <= R.box.hi.array() + eps).all() && R.normal.dot(P.normal) >= 1 - 1e-9
+            && std::abs(R.distance(x)) <= eps && in_sweep_triangle(R, x, eps))
             return true;
     return false;
 }

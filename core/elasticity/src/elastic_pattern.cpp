@@ -114,8 +114,8 @@ void ElasticModel::rebuild_pattern() {
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
         const auto& nodes = m_cells[c].nodes;
         if (nodes.size() != 4 || !m_p1[c].valid
-            || !std::all_of(nodes.begin(), nodes.end(),
-                [&](Index i) { return all_free(std::size_t(i)); }))
+            || !std::all_of(
+                nodes.begin(), nodes.end(), [&](Index i) { return all_free(std::size_t(i)); }))
             continue;
         compact[c] = 1;
         int* blk = m_block_scatter.data() + 20 * c;
@@ -149,8 +149,8 @@ void ElasticModel::rebuild_pattern() {
                 continue;
             const auto& nodes = m_cells[c].nodes;
             const std::size_t n = nodes.size(), d = 3 * n;
-            const std::size_t q = std::size_t(
-                std::find(nodes.begin(), nodes.end(), Index(j)) - nodes.begin());
+            const std::size_t q
+                = std::size_t(std::find(nodes.begin(), nodes.end(), Index(j)) - nodes.begin());
             int* sc = m_scatter.data() + m_scatter_offset[c];
             for (std::size_t p = 0; p < n; ++p) {
                 const std::size_t i = std::size_t(nodes[p]);

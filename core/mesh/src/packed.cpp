@@ -46,8 +46,8 @@ Mesh unpack(const PackedMesh& p) {
     m.faces.resize(nf);
     for (std::size_t f = 0; f < nf; ++f) {
         Face& face = m.faces[f];
-        face.nodes.assign(p.face_nodes.begin() + p.face_offset[f],
-            p.face_nodes.begin() + p.face_offset[f + 1]);
+        face.nodes.assign(
+            p.face_nodes.begin() + p.face_offset[f], p.face_nodes.begin() + p.face_offset[f + 1]);
         face.owner = p.face_owner[f];
         face.neighbour = p.face_neighbour[f];
         face.parent = p.face_parent[f];

@@ -187,6 +187,10 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     if (!s.locator)
         s.locator = std::make_unique<cut::WorldToRest>(s.mesh);
     bool located = false; // the grid is refitted once per call, when first needed
+    if (!s.rest_locator) { // the uncut mesh at rest: built once
+        s.rest_locator = std::make_unique<cut::WorldToRest>(s.initial_mesh);
+        s.rest_locator->refit(s.initial_mesh.rest, false);
+    }
     std::vector<cut::Triangle> rest;
     for (const auto& tri : world) {
         // A sliver of a sweep (the blade barely moved between two samples) cuts nothing at the
@@ -244,10 +248,6 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
                     }
                 }
             snap_to_face_plane(s.mesh, near, r, known, kFacePlane * cell_size, same);
-            if (!s.rest_locator) {
-                s.rest_locator = std::make_unique<cut::WorldToRest>(s.initial_mesh);
-                s.rest_locator->refit(s.initial_mesh.rest, false);
-            }
             // Cell splitting only: face snapping moves nodes onto the blade itself.
             const Vec3 rn = (r[1] - r[0]).cross(r[2] - r[0]).normalized();
             for (std::size_t k = 0; k < 3 && !snap; ++k) {

@@ -74,9 +74,6 @@ struct PcgSolver::Impl {
     long ic_size = -1;
     // Amg: BoomerAMG hierarchy of an earlier matrix, lagged like the CHOLMOD factor
     detail::AmgPreconditioner amg;
-    int amg_threads = 1; ///< threads of the AMG cycle (1 after a fallback, until a set-up)
-    long serial_fallbacks = 0; ///< solves redone with the serial cycle (see solve())
-    Vector x0; ///< the start of a solve that may have to be redone
     std::string setup_error;
 
     explicit Impl(PcgOptions o)
@@ -84,7 +81,6 @@ struct PcgSolver::Impl {
         , amg(o.amg) {
         options.threads = std::max(options.threads, 1);
         amg.set_threads(options.threads);
-        amg_threads = options.threads;
         if (options.background_refactor)
             background = std::make_unique<BackgroundCholesky>();
     }
@@ -244,8 +240,6 @@ struct PcgSolver::Impl {
     /// (Re)builds the AMG hierarchy from A.
     SolveStatus setup_amg(const SparseMatrix& A) {
         ++refactorizations;
-        amg.set_threads(options.threads); // a new hierarchy tries the threaded cycle again
-        amg_threads = options.threads;
         const SolveStatus s = amg.setup(A);
         setup_error = s == SolveStatus::NotReady ? amg.error() : std::string();
         if (s != SolveStatus::Ok) {
@@ -366,23 +360,7 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
         return result;
 
     const double target = impl.options.relative_tolerance * b_norm;
-    const bool hybrid = result.used == Preconditioner::Amg && impl.amg_threads > 1;
-    if (hybrid)
-        impl.x0 = x;
     result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
-    if (hybrid && result.status == SolveStatus::NotPositiveDefinite) {
-        // The threaded cycle smooths the finest level by hybrid Gauss-Seidel (Gauss-Seidel in
-        // each thread's rows, Jacobi across), which need not converge; then the cycle is not
-        // SPD and PCG stops. Seen after cuts on the 5k-node organ with two threads (14 of 60
-        // steps; the cuts were undone). The l1 variant (off-block |a_ij| added to the
-        // diagonal) would be SPD but took 56 instead of 31 iterations on box12. So: the same
-        // hierarchy with the serial cycle, from the same start, until the next set-up.
-        impl.amg.set_threads(1);
-        impl.amg_threads = 1;
-        ++impl.serial_fallbacks;
-        x = impl.x0;
-        result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
-    }
     int iterations_with_factor = result.iterations;
     // A stale lagged factor (or AMG hierarchy) that cannot reach the tolerance: refactor once and
     // go on from x.
@@ -444,10 +422,6 @@ void PcgSolver::set_coordinates(const Vector& coordinates) {
 bool PcgSolver::remap_preconditioner(const std::vector<long>& old_of) {
     Impl& impl = *m_impl;
     return impl.options.preconditioner == Preconditioner::Amg && impl.amg.remap(old_of);
-}
-
-long PcgSolver::amg_serial_fallbacks() const {
-    return m_impl->serial_fallbacks;
 }
 
 int PcgSolver::refactorizations() const {

@@ -8,8 +8,8 @@
 #include "polycut/solve/sparse.hpp"
 
 #include <memory>
-#include <vector>
 #include <string>
+#include <vector>
 
 namespace polycut::solve {
 
@@ -99,9 +99,6 @@ public:
     void set_coordinates(const Vector& coordinates);
     /// Number of lagged factorizations (or AMG set-ups) done so far (foreground and background).
     int refactorizations() const;
-    /// Solves redone with the serial AMG cycle because the threaded one (hybrid Gauss-Seidel
-    /// on the finest level) was not positive definite on that matrix.
-    long amg_serial_fallbacks() const;
     /// Amg: levels of the current hierarchy (0 before the first set-up).
     int amg_levels() const;
     /// Why the preconditioner set-up last returned NotReady (e.g. hypre/MPI unusable), or "".
