@@ -62,8 +62,8 @@ TEST(SimulationUndo, RestoringTheSnapshotUndoesACut) {
     EXPECT_EQ(a.mesh_stats().components, 2);
 }
 
-/// Grabs the block's top corner with a 1e9 N/m spring and pulls it 1 m away: an explicit force
-/// of 1e9 N that makes the next step explode.
+/// Grabs the block's top corner with a 1e9 N/m spring and pulls it 1 m away: the (implicit)
+/// spring drags the corner there in one step, stretching its cells far past the explosion guard.
 void pull_hard(Simulation& a) {
     GrabSpec g;
     g.point = Vec3(0.05, 0.05, 0.1);
@@ -73,8 +73,8 @@ void pull_hard(Simulation& a) {
 }
 
 TEST(SimulationUndo, AStepThatExplodesRightAfterACutUndoesTheCut) {
-    // A grab spring of 1e9 N/m pulled 1 m away is an explicit force of 1e9 N: the step after the
-    // cut explodes (a cell stretches past IntegratorOptions::stretch_limit), is rolled back, and
+    // A grab spring of 1e9 N/m pulled 1 m away drags the corner 1 m in one step: the step after
+    // the cut explodes (a cell stretches past IntegratorOptions::stretch_limit), is rolled back, and
     // takes the cut with it. Nothing exploded is ever in positions().
     Simulation a(scene::parse_scene(kBlock));
     a.step();

@@ -97,6 +97,59 @@ TEST(Simulation, ForcesAndGrabsMoveTheTissueAndExpire) {
     EXPECT_FALSE(s.move_grab(gid, Vec3::Zero()));
 }
 
+TEST(Simulation, GrabsAreStableForAnyStiffnessAtBothRates) {
+    // Issue 14 item 2: the grab spring is implicit, so 1e1..1e9 N/m pull the block's top corner
+    // 5 mm sideways at 60 Hz and 1 kHz without a rolled-back step; the stiffer the spring, the
+    // closer the corner gets to the target, and at 1e9 N/m it sits on it (|gap| = |f_el| / k).
+    for (const char* dt : { "0.016666666666666666", "0.001" }) {
+        double gap_before = 1.0;
+        for (const double k : { 1e1, 1e3, 1e5, 1e7, 1e9 }) {
+            sim::Simulation s = make(
+                block_scene("tet", std::string(R"({"type": "implicit_euler", "dt": )") + dt + "}"));
+            const Vec3 corner(0.04, 0.04, 0.02), target(0.045, 0.04, 0.02);
+            Index node = 0;
+            for (Index i = 0; i < Index(s.positions().size()); ++i)
+                if ((s.positions()[i] - corner).norm() < (s.positions()[node] - corner).norm())
+                    node = i;
+            sim::GrabSpec g;
+            g.point = corner;
+            g.stiffness = k;
+            g.radius = 1e-4; // the corner node alone
+            ASSERT_TRUE(s.move_grab(s.grab(g), target));
+            const int steps = std::string(dt) == "0.001" ? 1000 : 120;
+            double worst = 0;
+            for (int i = 0; i < steps; ++i) {
+                const sim::StepReport r = s.step();
+                ASSERT_FALSE(r.rolled_back) << "k " << k << " dt " << dt << ": " << r.warnings[0];
+                worst = std::max(worst, (s.positions()[node] - corner).norm());
+            }
+            const double gap = (s.positions()[node] - target).norm();
+            EXPECT_LT(gap, gap_before) << "k " << k << " dt " << dt;
+            EXPECT_LT(worst, 2 * 0.005) << "k " << k << " dt " << dt; // bounded overshoot
+            gap_before = gap;
+        }
+        EXPECT_LT(gap_before, 1e-6 * 0.005) << dt;
+    }
+    // A patch grabbed at 1e9 N/m keeps its shape: every grabbed node (the corner among them)
+    // moves by target - point, instead of the patch collapsing onto the target.
+    sim::Simulation s
+        = make(block_scene("tet", R"({"type": "implicit_euler", "dt": 0.016666666666666666})"));
+    const Vec3 corner(0.04, 0.04, 0.02), point(0.035, 0.035, 0.02), shift(0.005, 0, 0);
+    Index node = 0;
+    for (Index i = 0; i < Index(s.positions().size()); ++i)
+        if ((s.positions()[i] - corner).norm() < (s.positions()[node] - corner).norm())
+            node = i;
+    const Vec3 start = s.positions()[node];
+    sim::GrabSpec g;
+    g.point = point;
+    g.stiffness = 1e9;
+    g.radius = 0.012;
+    ASSERT_TRUE(s.move_grab(s.grab(g), point + shift));
+    for (int i = 0; i < 60; ++i)
+        ASSERT_FALSE(s.step().rolled_back);
+    EXPECT_LT((s.positions()[node] - start - shift).norm(), 1e-6 * shift.norm());
+}
+
 TEST(Simulation, BadInputThrowsAndChangesNothing) {
     sim::Simulation s = make(block_scene("tet", R"({"type": "implicit_euler", "dt": 0.01})"));
     for (int i = 0; i < 3; ++i)

@@ -127,6 +127,17 @@ void Integrator::set_external_forces(VecX f_ext) {
     m_fext = std::move(f_ext);
 }
 
+void Integrator::set_springs(std::vector<NodeSpring> springs) {
+    m_springs = std::move(springs);
+}
+
+void Integrator::springs_reduced(const MatX3& x) {
+    const Index n_free = m_model->num_free_dofs();
+    m_spring_f.setZero(n_free);
+    add_spring_forces(m_springs, x, m_model->dof_map(), m_spring_f);
+    spring_diagonal(m_springs, m_model->dof_map(), n_free, m_spring_diag);
+}
+
 void Integrator::ensure_topology(StepReport& report) {
     if (m_model->topology_version() == m_topology)
         return;
@@ -267,11 +278,20 @@ bool Integrator::step_implicit(State& s, StepReport& report) {
         solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());
         m_stiffness_age = 0;
         m_stiffness_cells = m_model->cell_version();
+        m_spring_in_A.resize(0);
     } else {
         solve::multiply_symmetric(m_K, m_v_r, m_tmp, m_model->threads());
         ++m_stiffness_age;
     }
     m_rhs = h * (m_fext_r + m_fint_r - alpha * M.cwiseProduct(m_v_r) - (beta + h) * m_tmp);
+    // Springs (diagonal stiffness K_s, undamped): + h^2 K_s in A, h (f_s(x) - h K_s v) in the
+    // right-hand side. A reused from an earlier step gets the change of h^2 K_s since then.
+    springs_reduced(s.x);
+    m_rhs += h * (m_spring_f - h * m_spring_diag.cwiseProduct(m_v_r));
+    if (m_spring_in_A.size() != m_spring_diag.size())
+        m_spring_in_A.setZero(m_spring_diag.size());
+    add_to_diagonal(m_A, h * h * m_spring_diag - m_spring_in_A);
+    m_spring_in_A = h * h * m_spring_diag;
     if (!m_rhs.allFinite()) {
         report.status = solve::SolveStatus::NonFinite;
         report.warnings.emplace_back("non-finite force or velocity");
@@ -317,7 +337,11 @@ bool Integrator::step_semi_implicit(State& s, StepReport& report) {
         report.warnings.emplace_back("non-finite force or velocity");
         return false;
     }
-    m_v_r += h * m_rhs.cwiseQuotient(M);
+    // Springs per DOF, implicit in the new velocity (their stiffness is diagonal):
+    // (M + h^2 K_s) v' = M v + h (f + f_s(x)).
+    springs_reduced(s.x);
+    m_v_r = (M.cwiseProduct(m_v_r) + h * (m_rhs + m_spring_f))
+                .cwiseQuotient(M + h * h * m_spring_diag);
     advance(m_model->dof_map(), m_v_r, h, s);
     return true;
 }
@@ -339,7 +363,9 @@ bool Integrator::step_static(State& s, StepReport& report) {
     };
     if (m_options.static_mode == StaticMode::Linear) {
         assemble(s.x, ForceMode::Linear, true, report);
-        m_rhs = m_fext_r + m_fint_r;
+        springs_reduced(s.x);
+        add_to_diagonal(m_K, m_spring_diag);
+        m_rhs = m_fext_r + m_fint_r + m_spring_f;
         m_dv.setZero(m_rhs.size());
         pass_coordinates(s.x);
         if (!linear_solve(m_K, m_rhs, m_dv, report))
@@ -354,7 +380,9 @@ bool Integrator::step_static(State& s, StepReport& report) {
     bool converged = false;
     for (int it = 0; it < m_options.static_max_iterations; ++it) {
         assemble(s.x, ForceMode::Corotated, true, report);
-        m_rhs = m_fext_r + m_fint_r;
+        springs_reduced(s.x);
+        add_to_diagonal(m_K, m_spring_diag);
+        m_rhs = m_fext_r + m_fint_r + m_spring_f;
         double rn = m_rhs.norm();
         if (it == 0)
             reference = std::max(fnorm, rn);
@@ -386,7 +414,8 @@ bool Integrator::step_static(State& s, StepReport& report) {
             for (std::size_t k = 0; k < dof_map.size(); ++k)
                 if (dof_map[k] != kNone)
                     work += m_fext_r(dof_map[k]) * x(Index(k));
-            return m_model->elastic_energy(s.x, ForceMode::Corotated) - work;
+            return m_model->elastic_energy(s.x, ForceMode::Corotated) - work
+                + spring_energy(m_springs, s.x);
         };
         const double pi0 = potential();
         double step = 1.0;
@@ -397,7 +426,8 @@ bool Integrator::step_static(State& s, StepReport& report) {
             if (potential() <= pi0 + 1e-12 * std::abs(pi0) || k == 9)
                 break;
             assemble(s.x, ForceMode::Corotated, false, report);
-            if ((m_fext_r + m_fint_r).norm() < rn)
+            springs_reduced(s.x);
+            if ((m_fext_r + m_fint_r + m_spring_f).norm() < rn)
                 break;
             apply(m_dv, -step);
             step *= 0.5;

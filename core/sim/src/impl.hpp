@@ -29,10 +29,21 @@ struct ActiveForce {
     double expires = 0; ///< sim time [s]; <= 0: never
 };
 
+/// A grab: each grabbed node hangs on a zero-length spring of stiffness `spec.stiffness * w`
+/// whose anchor is `target` plus the node's offset from the weighted centroid at grab time. The
+/// total force is the centroid spring's, k (target - x_c); holding the offsets keeps the grabbed
+/// patch in its shape instead of pulling it into one point. Per-node springs have a diagonal
+/// stiffness, so the integrator treats them implicitly (integrate/springs.hpp).
 struct ActiveGrab {
     GrabSpec spec;
     NodeWeights at;
     Vec3 target = Vec3::Zero(); ///< [m]
+    /// Offsets x_k - x_c at grab time [m], each with its node's rest position: a cut renumbers
+    /// `at.nodes` (and may split a node in two, both at the same rest point), so a node finds
+    /// its offset by rest position.
+    std::vector<Vec3> offset_rest, offset;
+    std::vector<Index> offset_nodes; ///< `at.nodes` the cached `node_offset` belongs to
+    std::vector<Vec3> node_offset; ///< offset per entry of `at.nodes`
 };
 
 struct Simulation::Impl {
@@ -113,6 +124,8 @@ struct Simulation::Impl {
     void refresh_topology();
     NodeWeights pick(const Vec3& world_point, double radius) const;
     void assemble_external(double sim_time);
+    /// The grabs as per-node springs for the integrator.
+    std::vector<integrate::NodeSpring> grab_springs();
     void fix_dofs_from_scene();
     void resize_state_after_cut(const cut::CutReport& report);
     /// Throws polycut::Error when a cell the cut changed has a non-positive or non-finite rest

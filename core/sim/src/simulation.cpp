@@ -120,16 +120,30 @@ void Simulation::Impl::assemble_external(double sim_time) {
             f_ext.segment<3>(3 * a.nodes[k]) += a.weights[k] * it->second.spec.force;
         ++it;
     }
-    for (const auto& [id, g] : grabs) {
-        // A zero-length spring between the grabbed material point (weighted centroid) and the
-        // target: total force k (target - x_c), spread by the same weights.
-        Vec3 xc = Vec3::Zero();
+}
+
+std::vector<integrate::NodeSpring> Simulation::Impl::grab_springs() {
+    std::vector<integrate::NodeSpring> out;
+    for (auto& [id, g] : grabs) {
+        if (g.offset_nodes != g.at.nodes) {
+            // A cut renumbered the nodes: look each one's offset up by its rest position.
+            g.node_offset.assign(g.at.nodes.size(), Vec3::Zero());
+            for (std::size_t k = 0; k < g.at.nodes.size(); ++k) {
+                const Vec3& X = mesh.rest[std::size_t(g.at.nodes[k])];
+                double best = std::numeric_limits<double>::infinity();
+                for (std::size_t j = 0; j < g.offset_rest.size(); ++j)
+                    if (const double d = (g.offset_rest[j] - X).squaredNorm(); d < best) {
+                        best = d;
+                        g.node_offset[k] = g.offset[j];
+                    }
+            }
+            g.offset_nodes = g.at.nodes;
+        }
         for (std::size_t k = 0; k < g.at.nodes.size(); ++k)
-            xc += g.at.weights[k] * positions[std::size_t(g.at.nodes[k])];
-        const Vec3 f = g.spec.stiffness * (g.target - xc);
-        for (std::size_t k = 0; k < g.at.nodes.size(); ++k)
-            f_ext.segment<3>(3 * g.at.nodes[k]) += g.at.weights[k] * f;
+            out.push_back(
+                { g.at.nodes[k], g.target + g.node_offset[k], g.spec.stiffness * g.at.weights[k] });
     }
+    return out;
 }
 
 StepReport Simulation::step() {
@@ -139,10 +153,11 @@ StepReport Simulation::step() {
     const double dt = is_static() ? 0.0 : s.scene.integrator.dt;
     try {
         s.assemble_external(s.time + dt);
-        if (is_static() && s.static_solved && s.grabs.empty()) {
+        if (is_static() && s.static_solved) {
             // Equilibrium already holds for unchanged loads.
         } else {
             s.integrator->set_external_forces(s.f_ext);
+            s.integrator->set_springs(s.grab_springs());
             const integrate::StepReport ir = s.integrator->step(s.state);
             r.assembly_ms = ir.assembly_ms;
             r.solve_ms = ir.solve_ms;
@@ -225,8 +240,15 @@ long Simulation::grab(const GrabSpec& g) {
     for (std::size_t k = 0; k < a.at.nodes.size(); ++k)
         xc += a.at.weights[k] * s.positions[std::size_t(a.at.nodes[k])];
     a.target = xc;
+    for (const Index n : a.at.nodes) {
+        a.offset_rest.push_back(s.mesh.rest[std::size_t(n)]);
+        a.offset.push_back(s.positions[std::size_t(n)] - xc);
+    }
+    a.offset_nodes = a.at.nodes;
+    a.node_offset = a.offset;
     const long id = s.next_id++;
     s.grabs.emplace(id, std::move(a));
+    s.static_solved = false;
     return id;
 }
 

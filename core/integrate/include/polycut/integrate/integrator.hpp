@@ -6,6 +6,7 @@
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/integrate/linear_solver.hpp"
 #include "polycut/integrate/options.hpp"
+#include "polycut/integrate/springs.hpp"
 #include "polycut/solve/background_cholesky.hpp"
 
 #include <memory>
@@ -23,6 +24,10 @@ public:
     /// External nodal forces (3#N) [N], applied in addition to gravity; an empty vector means
     /// none. Forces on fixed DOFs are ignored.
     void set_external_forces(VecX f_ext);
+    /// Penalty springs acting from the next step on (grabs): their force and their stiffness
+    /// enter the step (implicit in ImplicitEuler and Static, per-node implicit in
+    /// SemiImplicitEuler), so they are stable for any stiffness. Replaces the previous set.
+    void set_springs(std::vector<NodeSpring> springs);
     /// Advances `state` by one step (dt; Static: to equilibrium). Never throws.
     StepReport step(State& state);
     /// Total energy [J]: kinetic 1/2 v^T M v + elastic (force mode of the options).
@@ -81,6 +86,12 @@ private:
     int m_solves_since_factor = 0;
     LaggedStatus m_lagged_status;
     VecX m_fext; ///< full (3#N)
+    std::vector<NodeSpring> m_springs;
+    VecX m_spring_diag; ///< reduced spring stiffness (#free) [N/m]
+    VecX m_spring_in_A; ///< what the springs currently add to m_A's diagonal (#free, or empty)
+    /// Reduced spring forces at x into m_spring_f, their stiffness into m_spring_diag.
+    void springs_reduced(const MatX3& x);
+    VecX m_spring_f;
     std::uint64_t m_topology = ~std::uint64_t(0);
     std::vector<Index> m_dof_map_then; ///< the model's dof map at m_topology
     double m_divergence_limit = 0;
