@@ -90,6 +90,12 @@ const json* find_member(const json& object, std::string_view key) {
 }
 
 json parse_frame(std::string_view text) {
+    // nlohmann's lexer takes a NUL byte for the end of input, so "{...}\0garbage" would parse
+    // as "{...}". JSON text never holds a raw NUL (in a string it must be escaped as \u0000).
+    if (const auto nul = text.find('\0'); nul != std::string_view::npos) {
+        fail(ErrorCode::ParseError, "",
+            "NUL byte at offset " + std::to_string(nul) + " (JSON text cannot contain one)");
+    }
     std::size_t offset = 0;
     if (nesting_depth(text, offset) > kMaxDepth) {
         fail(ErrorCode::ParseError, "",
@@ -268,8 +274,16 @@ RequestId read_request_id(const json& value, const std::string& pointer, ErrorCo
             fail(code, pointer, "id out of range [-2^63, 2^63)");
         }
         if (value.is_number_float()) {
-            fail(code, pointer,
-                "id must be an integer, a string or null (fractional ids are not accepted)");
+            // Integral floats (3.0) are integers (docs/protocol.md "Units and conventions").
+            const double d = value.get<double>();
+            if (!(std::isfinite(d) && d == std::floor(d))) {
+                fail(code, pointer,
+                    "id must be an integer, a string or null (fractional ids are not accepted)");
+            }
+            if (!(d >= -9223372036854775808.0 && d < 9223372036854775808.0)) {
+                fail(code, pointer, "id out of range [-2^63, 2^63)");
+            }
+            return static_cast<std::int64_t>(d);
         }
         return value.get<std::int64_t>();
     }

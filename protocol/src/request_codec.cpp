@@ -15,6 +15,7 @@ constexpr std::array<std::string_view, 4> kEnvelopeMembers
 
 struct DecodeState {
     RequestId id = nullptr;
+    std::string method; ///< the method member, once read as a string
     bool notification = false; ///< known to be a notification (envelope read successfully)
 };
 
@@ -58,6 +59,9 @@ Request decode(std::span<const std::string_view> frames, const Limits& limits, D
         fail(ErrorCode::InvalidRequest, "/jsonrpc", "\"jsonrpc\" must be the string \"2.0\"");
     }
     const json* method_value = detail::find_member(root, "method");
+    if (method_value != nullptr && method_value->is_string()) {
+        state.method = method_value->get<std::string>().substr(0, 64);
+    }
     if (method_value == nullptr) {
         fail(ErrorCode::InvalidRequest, "/method", "missing \"method\"");
     }
@@ -105,12 +109,15 @@ Expected<Request, RequestError> decode_request(
     try {
         return decode(frames, limits, state);
     } catch (const detail::Failure& failure) {
-        const bool silent = state.notification && !is_envelope_error(failure.error.code);
-        return RequestError { state.id, !silent, failure.error };
+        // A notification is known once its envelope was read: every later error (method,
+        // params, frame limits, an unreferenced frame) goes unanswered (JSON-RPC 2.0 sec. 4.1).
+        const bool silent = state.notification;
+        return RequestError { state.id, !silent, failure.error, state.method };
     } catch (const std::exception& e) {
         // Defensive: nothing above should throw anything else; never let it reach the wire.
-        return RequestError { state.id, true,
-            make_error(ErrorCode::InternalError, "", std::string("decoder: ") + e.what()) };
+        return RequestError { state.id, !state.notification,
+            make_error(ErrorCode::InternalError, "", std::string("decoder: ") + e.what()),
+            state.method };
     }
 }
 

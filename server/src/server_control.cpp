@@ -141,7 +141,7 @@ void Server::Impl::handle(protocol::Message frames, std::size_t total_frames) {
         if (bad.reply_expected) {
             reply_error(routed.envelope, bad.id, bad.error);
         } else {
-            reject_notification("", bad.error);
+            reject_notification(bad.method, bad.error);
         }
         return;
     }

@@ -365,6 +365,8 @@ ApplyOutcome Session::apply_force(const protocol::ApplyForceParams& p) {
         entry.sim_id = m_sim->add_force(spec);
     } catch (const InputError& e) {
         return make_error(ErrorCode::InvalidParams, "/params/" + e.where(), e.problem());
+    } catch (const StateError& e) {
+        return make_error(ErrorCode::SimulationError, "/params/" + e.where(), e.problem());
     }
     entry.expires = p.duration ? m_sim->time() + *p.duration : 0.0;
     entry.spec
@@ -390,13 +392,15 @@ ApplyOutcome Session::grab(const protocol::GrabParams& p) {
     spec.point = to_vec(p.point);
     spec.stiffness = p.stiffness.value_or(protocol::kDefaultGrabStiffness);
     // Absent radius: the single material point nearest `point` (the sim falls back to the
-    // nearest node when none lies within the radius).
+    // nearest node when none lies within the radius, and refuses a point far from the material).
     spec.radius = p.radius.value_or(1e-9);
     GrabEntry entry;
     try {
         entry.sim_id = m_sim->grab(spec);
     } catch (const InputError& e) {
         return make_error(ErrorCode::InvalidParams, "/params/" + e.where(), e.problem());
+    } catch (const StateError& e) {
+        return make_error(ErrorCode::SimulationError, "/params/" + e.where(), e.problem());
     }
     entry.target = p.point;
     entry.spec = { p.point[0], p.point[1], p.point[2], spec.stiffness, spec.radius };

@@ -126,5 +126,54 @@ TEST(ProtocolRequest, IdToJsonTextIsDistinctPerId) {
     EXPECT_EQ(to_json_text(RequestId { nullptr }), "null");
 }
 
+TEST(ProtocolRequest, IntegralFloatIdsAreIntegersAndFractionalOnesAreNot) {
+    // docs/protocol.md: integer members accept integral floats (3.0).
+    for (const char* text : { R"({"jsonrpc":"2.0","id":3.0,"method":"hello"})",
+             R"({"jsonrpc":"2.0","id":3e0,"method":"hello"})" }) {
+        const std::string_view frame(text);
+        const auto r = decode_request(std::span<const std::string_view>(&frame, 1));
+        ASSERT_TRUE(r.ok()) << text;
+        EXPECT_EQ(r.value().id, RequestId { std::int64_t { 3 } }) << text;
+    }
+    for (const char* text : { R"({"jsonrpc":"2.0","id":3.5,"method":"hello"})",
+             R"({"jsonrpc":"2.0","id":1e300,"method":"hello"})" }) {
+        const std::string_view frame(text);
+        const auto r = decode_request(std::span<const std::string_view>(&frame, 1));
+        ASSERT_FALSE(r.ok()) << text;
+        EXPECT_EQ(r.error().error.code, ErrorCode::InvalidRequest) << text;
+        EXPECT_EQ(r.error().error.pointer, "/id") << text;
+    }
+}
+
+TEST(ProtocolRequest, ANulByteAnywhereInTheJsonFrameIsAParseError) {
+    // nlohmann's lexer stops at a NUL: without the check "{...}\0garbage" decoded as "{...}".
+    const std::string text
+        = std::string(R"({"jsonrpc":"2.0","id":1,"method":"reset"})") + '\0' + "garbage";
+    const std::string_view frame(text);
+    const auto r = decode_request(std::span<const std::string_view>(&frame, 1));
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().error.code, ErrorCode::ParseError);
+    EXPECT_TRUE(r.error().reply_expected);
+}
+
+TEST(ProtocolRequest, ARejectedNotificationKeepsItsMethodAndIsNeverAnswered) {
+    const std::string_view frames[] = { R"({"jsonrpc":"2.0","method":"hello"})", "unreferenced" };
+    auto r = decode_request(std::span<const std::string_view>(frames));
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().error.code, ErrorCode::InvalidRequest);
+    EXPECT_FALSE(r.error().reply_expected);
+    EXPECT_EQ(r.error().method, "hello");
+    const std::string_view unknown(R"({"jsonrpc":"2.0","method":"Cut"})");
+    r = decode_request(std::span<const std::string_view>(&unknown, 1));
+    ASSERT_FALSE(r.ok());
+    EXPECT_FALSE(r.error().reply_expected);
+    EXPECT_EQ(r.error().method, "Cut");
+    // An envelope error cannot tell a notification from a request: answered with id null.
+    const std::string_view bad(R"({"jsonrpc":"1.0","method":"hello"})");
+    r = decode_request(std::span<const std::string_view>(&bad, 1));
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(r.error().reply_expected);
+}
+
 } // namespace
 } // namespace polycut::protocol

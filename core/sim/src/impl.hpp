@@ -116,6 +116,9 @@ struct Simulation::Impl {
     /// Cube root of the uncut mesh's mean cell volume [m]: the length the cut tolerances and the
     /// blade's minimum advance are relative to.
     double initial_cell_size = 0;
+    /// Largest rest bounding-box diagonal of a cell of the uncut mesh [m]: how far a material
+    /// point can be from its nearest node (pick()).
+    double max_cell_diameter = 0;
     std::vector<Vec3> positions; ///< world positions (#N) [m], mirror of state.x
 
     void build();

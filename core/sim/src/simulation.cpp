@@ -3,6 +3,7 @@
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/polygon.hpp"
+#include "polycut/geometry/polyhedron.hpp"
 #include "polycut/sim/build_mesh.hpp"
 #include "setup.hpp"
 
@@ -37,6 +38,13 @@ void Simulation::Impl::build() {
     swept_area = 0;
     initial_cell_size = std::cbrt(
         initial_mesh.rest_volume() / double(std::max<Index>(1, initial_mesh.num_cells())));
+    max_cell_diameter = 0;
+    for (Index c = 0; c < initial_mesh.num_cells(); ++c) {
+        geometry::Aabb box;
+        for (const Index n : initial_mesh.cells[std::size_t(c)].nodes)
+            box.extend(initial_mesh.rest[std::size_t(n)]);
+        max_cell_diameter = std::max(max_cell_diameter, box.diagonal());
+    }
     mesh = initial_mesh;
     node_fixed_mask = fixed_dofs_from_scene(scene, mesh);
     scene_forces = scene_loads(scene, mesh);
@@ -76,7 +84,10 @@ void Simulation::Impl::refresh_topology() {
 
 NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const {
     // Hat kernel over the nodes within `radius` of p in the current configuration; the nearest
-    // node alone when none lies within. Only nodes that belong to a cell are picked.
+    // node alone when none lies within but p is within `radius` of the material. Only nodes that
+    // belong to a cell are picked. A material point within `radius` of p lies in a cell whose
+    // nodes are all within the cell's diameter of it, so no node within radius + the largest
+    // cell diameter means no material within `radius`: StateError, nothing changed.
     NodeWeights out;
     double total = 0;
     Index nearest = kNone;
@@ -96,6 +107,12 @@ NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const {
             out.weights.push_back(w);
             total += w;
         }
+    }
+    if (out.nodes.empty() && !(best <= radius + max_cell_diameter)) {
+        throw StateError("point",
+            nearest == kNone ? std::string("the tissue has no nodes")
+                             : "no material within " + std::to_string(radius)
+                    + " m of the point (the nearest node is " + std::to_string(best) + " m away)");
     }
     if (out.nodes.empty() && nearest != kNone) {
         out.nodes.push_back(nearest);

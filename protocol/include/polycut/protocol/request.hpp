@@ -35,6 +35,9 @@ struct RequestError {
     /// `rejected` event. True otherwise (parse errors and invalid requests get "id": null).
     bool reply_expected = true;
     RpcError error;
+    /// The "method" member when it could be read as a string (for the `rejected` event of a
+    /// notification), else empty.
+    std::string method;
 };
 
 /// Decodes a control message body (JSON frame, then binary frames; no routing envelope).

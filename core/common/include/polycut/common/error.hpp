@@ -57,4 +57,11 @@ public:
     using Error::Error;
 };
 
+/// Valid input the current state cannot carry out (a force at a point with no material near
+/// it); nothing was changed. `where()` names the argument ("point").
+class StateError : public Error {
+public:
+    using Error::Error;
+};
+
 } // namespace polycut
