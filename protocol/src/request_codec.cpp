@@ -38,10 +38,11 @@ Request decode(std::span<const std::string_view> frames, const Limits& limits, D
     if (frames.empty()) {
         fail(ErrorCode::InvalidRequest, "", "empty message");
     }
-    if (frames[0].size() > limits.max_frame_bytes) {
+    if (frames[0].size() > std::min(limits.max_frame_bytes, limits.max_json_bytes)) {
         fail(ErrorCode::PayloadTooLarge, "",
             "JSON frame is " + std::to_string(frames[0].size()) + " bytes; the limit is "
-                + std::to_string(limits.max_frame_bytes));
+                + std::to_string(std::min(limits.max_frame_bytes, limits.max_json_bytes))
+                + " (send bulk arrays as binary frames)");
     }
     const json root = detail::parse_frame(frames[0]);
     if (!root.is_object()) {

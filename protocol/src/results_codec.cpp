@@ -70,7 +70,9 @@ json limits_json(const Limits& l) {
         { "max_frames_per_message", l.max_frames_per_message },
         { "max_triangles_per_cut", l.max_triangles_per_cut },
         { "max_message_rate", l.max_message_rate }, { "max_step_ticks", l.max_step_ticks },
-        { "max_rate_hz", l.max_rate_hz } };
+        { "max_rate_hz", l.max_rate_hz }, { "max_json_bytes", l.max_json_bytes },
+        { "json_bytes_per_tick", l.json_bytes_per_tick }, { "max_in_flight", l.max_in_flight },
+        { "max_scene_bytes", l.max_scene_bytes } };
 }
 
 Limits read_limits(const json& value, const std::string& pointer) {
@@ -82,6 +84,20 @@ Limits read_limits(const json& value, const std::string& pointer) {
     l.max_message_rate = m.number("max_message_rate");
     l.max_step_ticks = m.u32("max_step_ticks");
     l.max_rate_hz = m.number("max_rate_hz");
+    // Optional: absent from older servers.
+    if (const json* v = m.r.optional("max_json_bytes"); v != nullptr) {
+        l.max_json_bytes = read_uint(*v, m.r.at("max_json_bytes"), 0, kU64, kCode);
+    }
+    if (const json* v = m.r.optional("json_bytes_per_tick"); v != nullptr) {
+        l.json_bytes_per_tick = read_uint(*v, m.r.at("json_bytes_per_tick"), 0, kU64, kCode);
+    }
+    if (const json* v = m.r.optional("max_in_flight"); v != nullptr) {
+        l.max_in_flight
+            = static_cast<std::uint32_t>(read_uint(*v, m.r.at("max_in_flight"), 0, kU32, kCode));
+    }
+    if (const json* v = m.r.optional("max_scene_bytes"); v != nullptr) {
+        l.max_scene_bytes = read_uint(*v, m.r.at("max_scene_bytes"), 0, kU64, kCode);
+    }
     return l;
 }
 
@@ -175,6 +191,14 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
             s.client_states = static_cast<std::uint32_t>(
                 read_uint(*v, m.r.at("client_states"), 0, kU32, kCode));
         }
+        for (auto [name, field] : { std::pair { "replies_dropped", &s.replies_dropped },
+                 std::pair { "events_coalesced", &s.events_coalesced },
+                 std::pair { "events_suppressed", &s.events_suppressed },
+                 std::pair { "busy", &s.busy } }) {
+            if (const json* v = m.r.optional(name); v != nullptr) {
+                *field = read_uint(*v, m.r.at(name), 0, kU64, kCode);
+            }
+        }
         return s;
     }
     }
@@ -237,6 +261,10 @@ json encode_result_json(const Result& result, Message& frames) {
                 out["open_strokes"] = r.open_strokes;
                 out["cached_replies"] = r.cached_replies;
                 out["client_states"] = r.client_states;
+                out["replies_dropped"] = r.replies_dropped;
+                out["events_coalesced"] = r.events_coalesced;
+                out["events_suppressed"] = r.events_suppressed;
+                out["busy"] = r.busy;
             }
         },
         result);

@@ -179,6 +179,9 @@ Message encode_event(const Event& event) {
     root["kind"] = event.kind;
     root["tick"] = event.tick;
     root["seq"] = event.seq;
+    if (event.event_seq != 0) {
+        root["event_seq"] = event.event_seq;
+    }
     json detail_value = json::parse(event.detail_json, nullptr, false);
     root["detail"] = detail_value.is_object() ? std::move(detail_value) : json::object();
     return Message { Frame(kEventTopic), detail::dump(root) };
@@ -207,6 +210,10 @@ StreamMessage decode_stream_impl(std::span<const std::string_view> frames) {
         if (const json* seq = r.optional("seq")) {
             event.seq = detail::read_uint(
                 *seq, r.at("seq"), 0, std::numeric_limits<std::uint64_t>::max(), kCode);
+        }
+        if (const json* v = r.optional("event_seq")) {
+            event.event_seq = detail::read_uint(
+                *v, r.at("event_seq"), 0, std::numeric_limits<std::uint64_t>::max(), kCode);
         }
         const json& detail_value = r.required("detail");
         if (!detail_value.is_object()) {

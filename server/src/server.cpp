@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <thread>
+#include <unistd.h>
 
 namespace polycut::server {
 
@@ -34,13 +35,27 @@ SessionConfig session_config(const ServerConfig& c) {
     SessionConfig s;
     s.scene_dir = default_scene_dir(c);
     s.strokes = c.strokes;
+    s.max_scene_bytes = c.limits.max_scene_bytes;
     return s;
+}
+
+/// The default scene budget: a quarter of the machine's memory (other processes, the old scene
+/// still ticking while a new one is built, and the estimate's own error need the rest).
+ServerConfig with_default_budget(ServerConfig c) {
+    if (c.limits.max_scene_bytes == 0) {
+        const long pages = ::sysconf(_SC_PHYS_PAGES);
+        const long page = ::sysconf(_SC_PAGESIZE);
+        if (pages > 0 && page > 0) {
+            c.limits.max_scene_bytes = std::uint64_t(pages) * std::uint64_t(page) / 4;
+        }
+    }
+    return c;
 }
 
 } // namespace
 
 Server::Impl::Impl(ServerConfig cfg, std::atomic<bool>& stop_flag)
-    : config(std::move(cfg))
+    : config(with_default_budget(std::move(cfg)))
     , stop(stop_flag)
     , control(context, zmq::socket_type::router)
     , stream(context, zmq::socket_type::pub)
@@ -60,6 +75,9 @@ Server::Impl::Impl(ServerConfig cfg, std::atomic<bool>& stop_flag)
     // A client reconnecting with the same ROUTING_ID takes over its identity (retries across a
     // reconnect hit the reply cache).
     control.set(zmq::sockopt::router_handover, 1);
+    // Replies over a client's in-flight bound fail and are counted instead of vanishing.
+    control.set(zmq::sockopt::router_mandatory, 1);
+    control.set(zmq::sockopt::sndhwm, static_cast<int>(config.limits.max_in_flight));
     control.bind(config.control);
     stream.set(zmq::sockopt::linger, 0);
     stream.set(zmq::sockopt::sndhwm, config.stream_hwm);
@@ -165,6 +183,7 @@ void Server::Impl::run_tick() {
     const double step_cpu_ms = thread_cpu_ms() - cpu0;
     publish_surface(report, false);
     publish_sweep_rejections();
+    flush_rejections();
     const double tick_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count()
         + command_ms_since_tick;
     command_ms_since_tick = 0.0;

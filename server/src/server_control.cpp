@@ -6,6 +6,8 @@
 #include "server_impl.hpp"
 
 #include <cstdio>
+#include <limits>
+#include <malloc.h>
 #include <nlohmann/json.hpp>
 
 namespace polycut::server {
@@ -19,6 +21,13 @@ using protocol::Method;
 constexpr std::string_view kServerName = "polycut-server 0.1.0";
 /// Messages handled per service_control call, so a flood cannot starve the tick.
 constexpr int kMaxMessagesPerService = 256;
+/// `rejected` events published per flush (one per client, the first clients first); the rest
+/// are counted in get_stats.events_suppressed, so a flood of bad notifications from many
+/// clients cannot push surface frames out of the subscribers' queues.
+constexpr std::size_t kMaxRejectedEventsPerFlush = 4;
+/// A refused (busy) message is parsed for its id only up to this size [bytes]; a larger one is
+/// answered with "id": null (JSON-RPC 2.0: the id could not be determined cheaply).
+constexpr std::size_t kBusyPeekBytes = 1024;
 /// Clients counted by get_stats.clients: seen within this window [s].
 constexpr double kActiveClientWindow = 10.0;
 
@@ -38,7 +47,9 @@ std::string hex64(std::uint64_t v) {
 void Server::Impl::service_control(long timeout_ms) {
     zmq::pollitem_t item { control.handle(), 0, ZMQ_POLLIN, 0 };
     try {
-        zmq::poll(&item, 1, std::chrono::milliseconds(timeout_ms));
+        // A signal may land on another thread (ZeroMQ's I/O threads): wake up at least every
+        // 50 ms to see the stop flag.
+        zmq::poll(&item, 1, std::chrono::milliseconds(std::min(timeout_ms, 50L)));
     } catch (const zmq::error_t& e) {
         if (e.num() == EINTR) {
             return; // a signal: the loop checks its stop flag
@@ -56,9 +67,13 @@ void Server::Impl::service_control(long timeout_ms) {
         }
         const auto t0 = Clock::now();
         handle(std::move(frames), total);
-        command_ms_since_tick
-            += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        const auto t1 = Clock::now();
+        command_ms_since_tick += std::chrono::duration<double, std::milli>(t1 - t0).count();
+        if (running && t1 >= next_deadline) {
+            break; // the tick is due: the rest waits in the socket (issue 14 item 1)
+        }
     }
+    flush_rejections();
 }
 
 bool Server::Impl::receive(protocol::Message& frames, std::size_t& total_frames) {
@@ -109,12 +124,21 @@ ClientInfo& Server::Impl::touch_client(const std::string& identity) {
             reply_cache.drop_client(oldest->first);
             clients.erase(oldest);
         }
-        it = clients.emplace(identity, ClientInfo { t, config.limits.max_message_rate }).first;
+        it = clients
+                 .emplace(identity,
+                     ClientInfo {
+                         t, config.limits.max_message_rate, double(config.limits.max_json_bytes) })
+                 .first;
     }
     ClientInfo& c = it->second;
     // Token bucket: max_message_rate per second, bursts up to one second's worth.
-    c.tokens = std::min(config.limits.max_message_rate,
-        c.tokens + (t - c.last_seen_s) * config.limits.max_message_rate);
+    const double dt = t - c.last_seen_s;
+    c.tokens
+        = std::min(config.limits.max_message_rate, c.tokens + dt * config.limits.max_message_rate);
+    // JSON byte bucket: json_bytes_per_tick per tick at the current rate, up to one message of
+    // max_json_bytes.
+    c.json_bytes = std::min(double(config.limits.max_json_bytes),
+        c.json_bytes + dt * double(config.limits.json_bytes_per_tick) * rate_hz);
     c.last_seen_s = t;
     return c;
 }
@@ -128,6 +152,25 @@ void Server::Impl::handle(protocol::Message frames, std::size_t total_frames) {
     }
     const std::string identity = routed.envelope.front();
     ClientInfo& client = touch_client(identity);
+    // Every message counts against the budgets, valid or not, before any parsing.
+    const double json_size = routed.body.empty() ? 0.0 : double(routed.body.front().size());
+    const bool within_json_limit = json_size <= double(config.limits.max_json_bytes);
+    if (client.tokens < 1.0) {
+        refuse_busy(routed, identity,
+            "more than " + std::to_string(config.limits.max_message_rate)
+                + " messages per second; retry later");
+        return;
+    }
+    if (within_json_limit && client.json_bytes < json_size) {
+        refuse_busy(routed, identity,
+            "JSON byte budget of " + std::to_string(config.limits.json_bytes_per_tick)
+                + " bytes per tick used up; retry later");
+        return;
+    }
+    client.tokens -= 1.0;
+    if (within_json_limit) {
+        client.json_bytes -= json_size; // an oversize frame is refused unparsed (-32005)
+    }
 
     const std::size_t body_frames = total_frames - routed.envelope.size();
     auto decoded = protocol::decode_request(routed.body, config.limits);
@@ -141,24 +184,11 @@ void Server::Impl::handle(protocol::Message frames, std::size_t total_frames) {
         if (bad.reply_expected) {
             reply_error(routed.envelope, bad.id, bad.error);
         } else {
-            reject_notification(bad.method, bad.error);
+            reject_notification(identity, bad.method, bad.error);
         }
         return;
     }
-    const protocol::Request& request = decoded.value();
-    if (client.tokens < 1.0) {
-        const auto busy = make_error(ErrorCode::Busy, "",
-            "more than " + std::to_string(config.limits.max_message_rate)
-                + " requests per second; retry later");
-        if (request.id) {
-            reply_error(routed.envelope, *request.id, busy);
-        } else {
-            reject_notification(protocol::method_name(request.method()), busy);
-        }
-        return;
-    }
-    client.tokens -= 1.0;
-    dispatch(routed.envelope, request);
+    dispatch(routed.envelope, decoded.value());
 }
 
 void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::Request& request) {
@@ -185,7 +215,7 @@ void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::R
     };
     auto fail = [&](const protocol::RpcError& error) {
         if (!request.id) {
-            reject_notification(protocol::method_name(method), error);
+            reject_notification(identity, protocol::method_name(method), error);
             return;
         }
         ++errors;
@@ -229,6 +259,9 @@ void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::R
             nlohmann::json detail
                 = { { "name", session.scene_name() }, { "reason", done.scene_reason } };
             publish_event("scene", detail.dump(), seq);
+            // The old scene's memory went back to malloc; hand the free pages back to the system
+            // (glibc keeps them otherwise: RSS stayed at its peak after a reload).
+            ::malloc_trim(0);
         }
         answer(std::move(done.result));
         return;
@@ -304,10 +337,44 @@ void Server::Impl::finish_steps() {
     }
 }
 
+void Server::Impl::refuse_busy(
+    const protocol::Routed& routed, const std::string& identity, const std::string& reason) {
+    ++busy;
+    const auto error = make_error(ErrorCode::Busy, "", reason);
+    protocol::RequestId id = nullptr;
+    if (!routed.body.empty() && routed.body.front().size() <= kBusyPeekBytes) {
+        // Small enough to read the id (and whether it is a notification) for next to nothing.
+        protocol::Limits peek = config.limits;
+        peek.max_frames_per_message = std::numeric_limits<std::uint32_t>::max();
+        auto decoded = protocol::decode_request(routed.body, peek);
+        if (decoded && !decoded->id) {
+            reject_notification(identity, protocol::method_name(decoded->method()), error);
+            return;
+        }
+        if (!decoded && !decoded.error().reply_expected) {
+            reject_notification(identity, decoded.error().method, error);
+            return;
+        }
+        id = decoded ? *decoded->id : decoded.error().id;
+    }
+    reply_error(routed.envelope, id, error);
+}
+
 void Server::Impl::reply(const protocol::Message& envelope, protocol::Message body) {
-    // A ROUTER drops messages to peers that are gone or over their HWM; never block.
+    // Never block: ROUTER_MANDATORY makes a send to a peer whose queue holds max_in_flight
+    // replies fail (EAGAIN) and a send to a vanished peer throw (EHOSTUNREACH) instead of
+    // dropping silently; both are counted in replies_dropped.
     try {
-        for (const auto& frame : envelope) {
+        if (envelope.empty()) {
+            return;
+        }
+        if (!control.send(zmq::buffer(envelope.front()),
+                zmq::send_flags::sndmore | zmq::send_flags::dontwait)) {
+            ++replies_dropped;
+            return;
+        }
+        for (std::size_t k = 1; k < envelope.size(); ++k) {
+            const auto& frame = envelope[k];
             control.send(zmq::buffer(frame), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
         }
         for (std::size_t k = 0; k < body.size(); ++k) {
@@ -317,7 +384,10 @@ void Server::Impl::reply(const protocol::Message& envelope, protocol::Message bo
             control.send(zmq::buffer(body[k]), flags);
         }
     } catch (const zmq::error_t& e) {
-        std::fprintf(stderr, "[warn] polycut-server: reply not sent: %s\n", e.what());
+        ++replies_dropped;
+        if (e.num() != EHOSTUNREACH) {
+            std::fprintf(stderr, "[warn] polycut-server: reply not sent: %s\n", e.what());
+        }
     }
 }
 
@@ -338,13 +408,36 @@ void Server::Impl::publish_sweep_rejections() {
     }
 }
 
-void Server::Impl::reject_notification(std::string_view method, const protocol::RpcError& error) {
+void Server::Impl::reject_notification(
+    const std::string& identity, std::string_view method, const protocol::RpcError& error) {
     ++errors;
+    auto [it, fresh] = pending_rejections.try_emplace(identity);
+    ++it->second.count;
+    if (!fresh) {
+        ++events_coalesced;
+        return;
+    }
     nlohmann::json detail
         = { { "method", std::string(method) }, { "code", static_cast<int>(error.code) },
               { "pointer", error.pointer }, { "reason", error.reason } };
-    publish_event(
-        "rejected", detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), 0);
+    it->second.detail_json = detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void Server::Impl::flush_rejections() {
+    std::size_t published = 0;
+    for (auto& [identity, pending] : pending_rejections) {
+        if (published == kMaxRejectedEventsPerFlush) {
+            events_suppressed += pending.count;
+            continue;
+        }
+        // `count`: this rejection and the ones from the same client folded into it.
+        std::string detail = pending.detail_json;
+        detail.pop_back(); // the closing brace
+        detail += ",\"count\":" + std::to_string(pending.count) + "}";
+        publish_event("rejected", detail, 0);
+        ++published;
+    }
+    pending_rejections.clear();
 }
 
 protocol::HelloResult Server::Impl::hello() const {
@@ -397,6 +490,10 @@ protocol::Stats Server::Impl::stats() const {
     s.open_strokes = static_cast<std::uint32_t>(session.open_strokes());
     s.cached_replies = static_cast<std::uint32_t>(reply_cache.size());
     s.client_states = static_cast<std::uint32_t>(clients.size());
+    s.replies_dropped = replies_dropped;
+    s.events_coalesced = events_coalesced;
+    s.events_suppressed = events_suppressed;
+    s.busy = busy;
     return s;
 }
 

@@ -24,7 +24,14 @@ using Clock = std::chrono::steady_clock;
 /// What the server keeps per control peer (routing identity).
 struct ClientInfo {
     double last_seen_s = 0.0; ///< monotonic [s]
-    double tokens = 0.0; ///< rate limit bucket
+    double tokens = 0.0; ///< rate limit bucket [messages]
+    double json_bytes = 0.0; ///< JSON parse budget bucket [bytes]
+};
+
+/// The first rejected notification of a client since the last flush, and how many followed.
+struct PendingRejection {
+    std::string detail_json; ///< the event detail without `count`
+    std::uint64_t count = 0;
 };
 
 /// A `step` request waiting for its ticks.
@@ -58,7 +65,15 @@ struct Server::Impl {
     void reply(const protocol::Message& envelope, protocol::Message body);
     void reply_error(const protocol::Message& envelope, const protocol::RequestId& id,
         const protocol::RpcError& error);
-    void reject_notification(std::string_view method, const protocol::RpcError& error);
+    /// Counts a rejected notification; its `rejected` event is coalesced per client until
+    /// flush_rejections() (docs/protocol.md "Events").
+    void reject_notification(
+        const std::string& identity, std::string_view method, const protocol::RpcError& error);
+    /// Publishes the coalesced `rejected` events (at most kMaxRejectedEventsPerFlush).
+    void flush_rejections();
+    /// Answers a message the rate or JSON byte budget refuses, without parsing a large one.
+    void refuse_busy(
+        const protocol::Routed& routed, const std::string& identity, const std::string& reason);
     /// Publishes a `rejected` event per scalpel stroke whose sweep the session could not cut.
     void publish_sweep_rejections();
     ClientInfo& touch_client(const std::string& identity);
@@ -108,6 +123,12 @@ struct Server::Impl {
     std::vector<protocol::RequestId> applied; ///< ids applied since the last frame
     std::optional<protocol::RequestId> last_cut_id; ///< for the topology event
     std::uint64_t stream_dropped = 0;
+    std::map<std::string, PendingRejection, std::less<>> pending_rejections;
+    std::uint64_t replies_dropped = 0;
+    std::uint64_t events_published = 0; ///< the last event's event_seq
+    std::uint64_t events_coalesced = 0;
+    std::uint64_t events_suppressed = 0;
+    std::uint64_t busy = 0;
 
     // Accounting.
     std::uint64_t requests = 0;

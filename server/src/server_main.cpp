@@ -12,23 +12,65 @@
 #include "server_command_log.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
 
 polycut::server::Server* g_server = nullptr;
+std::atomic<int> g_signal { 0 };
 
-extern "C" void on_signal(int) {
+extern "C" void on_signal(int sig) {
+    g_signal.store(sig);
     if (g_server != nullptr) {
         g_server->request_stop();
     }
 }
+
+/// Ends the process when a signal's stop request is not honoured within one tick (at least
+/// 100 ms): the loop checks its stop flag between messages and ticks and at least every 50 ms
+/// while it waits, but one long command (a scene build, a large cut) cannot be interrupted.
+/// Exit status 128 + signal, as a shell reports it.
+class Watchdog {
+public:
+    explicit Watchdog(double rate_hz)
+        : m_grace(std::chrono::duration<double>(std::max(1.0 / rate_hz, 0.1)))
+        , m_thread([this] { watch(); }) { }
+    ~Watchdog() {
+        m_done.store(true);
+        m_thread.join();
+    }
+
+private:
+    void watch() {
+        while (!m_done.load()) {
+            if (const int sig = g_signal.load(); sig != 0) {
+                const auto deadline = std::chrono::steady_clock::now() + m_grace;
+                while (!m_done.load() && std::chrono::steady_clock::now() < deadline) {
+                    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+                }
+                if (!m_done.load()) {
+                    std::fprintf(stderr,
+                        "[warn] polycut-server: stopping on signal %d during long work\n", sig);
+                    std::_Exit(128 + sig);
+                }
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    }
+    std::chrono::duration<double> m_grace;
+    std::atomic<bool> m_done { false };
+    std::thread m_thread;
+};
 
 int usage(const std::string& why) {
     std::fprintf(stderr,
@@ -137,6 +179,12 @@ int main(int argc, char** argv) {
                 return usage("--until-tick needs a non-negative integer");
             }
             until_tick = static_cast<long>(t);
+        } else if (a == "--scene-memory") {
+            double mb = 0;
+            if (!parse_double(v, mb) || !(mb > 0) || mb > 1e9) {
+                return usage("--scene-memory needs a size in MB > 0");
+            }
+            config.limits.max_scene_bytes = std::uint64_t(mb * 1e6);
         } else if (a == "--rate") {
             if (!parse_double(v, config.rate_hz)) {
                 return usage("--rate needs a number [Hz]");
@@ -158,7 +206,10 @@ int main(int argc, char** argv) {
         g_server = &server;
         std::signal(SIGINT, on_signal);
         std::signal(SIGTERM, on_signal);
-        server.run();
+        {
+            const Watchdog watchdog(config.rate_hz);
+            server.run();
+        }
         g_server = nullptr;
         std::fprintf(stderr, "[info] polycut-server: stopped\n");
         return 0;

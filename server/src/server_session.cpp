@@ -4,6 +4,7 @@
 #include "polycut/common/error.hpp"
 #include "polycut/protocol/sweep.hpp"
 #include "polycut/scene/scene.hpp"
+#include "polycut/sim/estimate.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -105,8 +106,30 @@ bool Session::is_mutation(protocol::Method method) {
     }
 }
 
+namespace {
+/// The scene's estimated memory against the budget (issue 14 item 3), before building it.
+std::optional<std::string> over_budget(const scene::Scene& scene, std::uint64_t budget) {
+    if (budget == 0) {
+        return std::nullopt;
+    }
+    const sim::SceneEstimate e = sim::estimate(scene);
+    if (!e.known || e.bytes <= double(budget)) {
+        return std::nullopt;
+    }
+    char text[256];
+    std::snprintf(text, sizeof text,
+        "scene too large: ~%.3g cells (%s) need ~%.0f MB, above the server's budget of %.0f MB "
+        "(polycut-server --scene-memory)",
+        e.cells, e.basis.c_str(), e.bytes / 1e6, double(budget) / 1e6);
+    return std::string(text);
+}
+} // namespace
+
 void Session::load_scene_file(const std::string& path) {
     scene::Scene scene = scene::load_scene(path);
+    if (auto why = over_budget(scene, m_config.max_scene_bytes)) {
+        throw SceneError("/geometry", *why);
+    }
     std::string name
         = scene.name.empty() ? std::filesystem::path(path).stem().string() : scene.name;
     install(std::make_unique<sim::Simulation>(std::move(scene)), std::move(name));
@@ -309,12 +332,18 @@ ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
                     "no scene named \"" + *p.name + "\" in the server's scene directory");
             }
             scene::Scene scene = scene::load_scene(path.string());
+            if (auto why = over_budget(scene, m_config.max_scene_bytes)) {
+                return make_error(ErrorCode::SceneError, "/params/name", *why);
+            }
             name = *p.name;
             sim = std::make_unique<sim::Simulation>(std::move(scene));
         } else {
             scene::Scene scene = scene::parse_scene(*p.scene_json, m_config.scene_dir);
             if (auto bad = check_inline_paths(scene)) {
                 return *bad;
+            }
+            if (auto why = over_budget(scene, m_config.max_scene_bytes)) {
+                return make_error(ErrorCode::SceneError, "/params/scene/geometry", *why);
             }
             name = "inline";
             sim = std::make_unique<sim::Simulation>(std::move(scene));

@@ -28,6 +28,8 @@ struct SessionConfig {
     std::string scene_dir = "assets/scenes";
     /// Scalpel stroke bookkeeping limits (per client).
     StrokeLimits strokes;
+    /// Largest scene a load may build, as sim::estimate() puts it [bytes]; 0 = no budget.
+    std::uint64_t max_scene_bytes = 0;
 };
 
 /// What applying a command did besides its result.

@@ -72,6 +72,7 @@ void Server::Impl::publish_event(
     e.kind = std::move(kind);
     e.tick = session.tick();
     e.seq = event_seq;
+    e.event_seq = ++events_published;
     e.detail_json = std::move(detail_json);
     send_stream(protocol::encode_event(e));
 }

@@ -20,7 +20,11 @@ TEST_F(Methods, HelloReportsProtocolLimitsAndStream) {
     const auto h = client.ok<HelloResult>(HelloParams { "test", "polycut/1" });
     EXPECT_EQ(h.protocol, "polycut/1");
     EXPECT_EQ(h.stream, server.stream());
-    EXPECT_EQ(h.limits, config.limits);
+    // The scene budget defaults to a share of the machine's memory; the rest as configured.
+    EXPECT_GT(h.limits.max_scene_bytes, 0u);
+    Limits expected = config.limits;
+    expected.max_scene_bytes = h.limits.max_scene_bytes;
+    EXPECT_EQ(h.limits, expected);
     EXPECT_FALSE(h.running);
     ASSERT_TRUE(h.scene.has_value());
     EXPECT_EQ(*h.scene, "small");

@@ -24,6 +24,20 @@ struct Limits {
     std::uint32_t max_step_ticks = 10000;
     /// Largest tick rate accepted by `set_rate` [Hz].
     double max_rate_hz = 1000.0;
+    /// Largest JSON frame (frame 0) [bytes]; -32005 without parsing it. Parsing is the costly
+    /// part of a message (~80 us/KiB of nested arrays here), so this bounds one message's work
+    /// to about one 60 Hz tick; bulk arrays go in binary frames (max_frame_bytes). 256 KiB.
+    std::uint64_t max_json_bytes = 256u << 10;
+    /// JSON bytes one client may have parsed per tick, on average: a byte bucket refilled at
+    /// this many bytes per tick, holding at most max_json_bytes; a message the bucket cannot
+    /// pay is -32004 Busy [bytes/tick]. 64 KiB.
+    std::uint64_t json_bytes_per_tick = 64u << 10;
+    /// Replies the server queues for one client before it drops them (counted in
+    /// get_stats.replies_dropped): keep fewer requests than this in flight (ROUTER SNDHWM).
+    std::uint32_t max_in_flight = 1000;
+    /// Largest scene a load_scene may build, as estimated before building it [bytes]
+    /// (-32001 above it); 0 = no budget. The server sets it from --scene-memory.
+    std::uint64_t max_scene_bytes = 0;
 
     bool operator==(const Limits&) const = default;
 };

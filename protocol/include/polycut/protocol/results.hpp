@@ -102,6 +102,14 @@ struct Stats {
     std::uint32_t open_strokes = 0; ///< scalpel strokes open over all clients
     std::uint32_t cached_replies = 0; ///< replies held by the retry cache
     std::uint32_t client_states = 0; ///< control peers the server holds state for
+    /// Replies not sent because the client's queue held limits.max_in_flight replies.
+    std::uint64_t replies_dropped = 0;
+    /// Rejected notifications folded into another `rejected` event of the same client and tick.
+    std::uint64_t events_coalesced = 0;
+    /// `rejected` events not published because a tick already had its quota of them.
+    std::uint64_t events_suppressed = 0;
+    /// Messages answered -32004 (rate or JSON byte budget), notifications included.
+    std::uint64_t busy = 0;
     bool operator==(const Stats&) const = default;
 };
 

@@ -67,6 +67,9 @@ struct Event {
     std::int64_t tick = 0; ///< tick at which it happened
     std::uint64_t seq = 0; ///< stream seq of the surface frame it relates to (0 = none)
     std::string detail_json = "{}"; ///< kind-specific object, compact JSON text
+    /// +1 per event published (from 1; 0 = not reported): a gap means the PUB socket dropped
+    /// events for this subscriber.
+    std::uint64_t event_seq = 0;
     bool operator==(const Event&) const = default;
 };
 

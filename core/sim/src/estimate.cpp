@@ -1,0 +1,83 @@
+// Scene size and memory estimate before building (estimate.hpp).
+#include "polycut/sim/estimate.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+namespace polycut::sim {
+
+namespace {
+/// Volume of a regular tetrahedron of edge h over h^3 (Mesh_3 aims at cells of size h).
+constexpr double kRegularTet = 0.1178511;
+/// Memory per cell: this many times the bytes of its (3n)^2 element matrix, plus a constant.
+constexpr double kMatrixFactor = 4.5;
+constexpr double kCellOverhead = 1024.0;
+/// The process before any scene (libraries, sockets, buffers) [bytes]; not counted.
+} // namespace
+
+SceneEstimate estimate(const scene::Scene& s) {
+    using Kind = scene::Geometry::Kind;
+    const scene::Geometry& g = s.geometry;
+    SceneEstimate e;
+    const double blocks = double(std::max(g.cells.x(), 0)) * double(std::max(g.cells.y(), 0))
+        * double(std::max(g.cells.z(), 0));
+    switch (g.kind) {
+    case Kind::Box:
+        if (g.elements == "hex") {
+            e.cells = blocks;
+            e.nodes_per_cell = 8;
+        } else {
+            e.cells = blocks * (g.tet_split == "five" ? 5.0 : 6.0);
+        }
+        e.basis = "box of " + std::to_string(long(blocks)) + " blocks";
+        break;
+    case Kind::RandomPlanes:
+        // Each plane splits a block's pieces: at most (planes + 1)^2 pieces of ~10 nodes.
+        e.cells = blocks * std::pow(double(g.planes_per_cell) + 1.0, 2.0);
+        e.nodes_per_cell = 10;
+        e.basis = "random planes in " + std::to_string(long(blocks)) + " blocks";
+        break;
+    case Kind::Implicit: {
+        const double pi = std::numbers::pi;
+        const Vec3 r = g.radii;
+        double volume = 4.0 / 3.0 * pi * r.x() * r.y() * r.z();
+        if (g.shape == "sphere") {
+            volume = 4.0 / 3.0 * pi * std::pow(r.x(), 3);
+        } else if (g.shape == "capsule") {
+            volume = pi * r.x() * r.x() * g.length + 4.0 / 3.0 * pi * std::pow(r.x(), 3);
+        } else if (g.shape == "blob") {
+            volume *= 2.0; // lobes reach past the radii
+        }
+        const double h = std::max(g.cell_size, 1e-12);
+        e.cells = 2.0 * volume / (kRegularTet * h * h * h); // Mesh_3 cells run smaller than h
+        e.basis = g.shape + " meshed at cell size " + std::to_string(h) + " m";
+        break;
+    }
+    case Kind::MeshFile:
+    case Kind::SurfaceFile: {
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(g.path, ec);
+        if (ec || g.kind == Kind::SurfaceFile) {
+            // A surface's volume (and so its tet count) is known only after reading it; the
+            // scene directory is the operator's, so these are not refused by the estimate.
+            e.known = false;
+            e.basis = "surface or mesh file (not estimated)";
+            return e;
+        }
+        e.cells = double(size) / 20.0; // a cell line takes at least ~20 bytes of text
+        e.basis = "mesh file of " + std::to_string(size) + " bytes";
+        break;
+    }
+    case Kind::ConvexHull:
+        e.cells = 1;
+        e.nodes_per_cell = std::max<double>(double(g.points.size()), 24.0);
+        e.basis = "one convex cell";
+        break;
+    }
+    const double matrix = 8.0 * std::pow(3.0 * e.nodes_per_cell, 2.0);
+    e.bytes = e.cells * (kMatrixFactor * matrix + kCellOverhead);
+    return e;
+}
+
+} // namespace polycut::sim
