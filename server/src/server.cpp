@@ -70,6 +70,22 @@ Server::Impl::Impl(ServerConfig cfg, std::atomic<bool>& stop_flag)
     if (config.scene_file) {
         session.load_scene_file(*config.scene_file);
     }
+    if (config.curve_keys) {
+        const CurveKeys keys = read_curve_keys(*config.curve_keys);
+        zap = std::make_unique<ZapHandler>(context, keys.authorized);
+        make_curve_server(control, keys);
+        make_curve_server(stream, keys);
+    } else if (!config.insecure) {
+        for (const auto& [option, endpoint] : { std::pair { "--control", config.control },
+                 std::pair { "--stream", config.stream } }) {
+            if (!is_loopback_endpoint(endpoint)) {
+                throw InputError(option,
+                    endpoint
+                        + " is reachable from other machines: give --curve-keys DIR (CURVE "
+                          "encryption and a client allow-list), or --insecure");
+            }
+        }
+    }
     control.set(zmq::sockopt::linger, 0);
     control.set(zmq::sockopt::maxmsgsize, static_cast<int64_t>(config.limits.max_frame_bytes));
     // A client reconnecting with the same ROUTING_ID takes over its identity (retries across a

@@ -39,6 +39,11 @@ struct ServerConfig {
     ReplyCacheLimits reply_cache;
     StrokeLimits strokes;
     bool log_stats = true; ///< one info line per second on stderr
+    /// CURVE key directory (server_curve.hpp): both sockets encrypt and only the clients in its
+    /// authorized_clients get in. None: plain TCP, allowed only on loopback endpoints.
+    std::optional<std::string> curve_keys;
+    /// Allow a non-loopback endpoint without CURVE (anyone who can reach it may drive the server).
+    bool insecure = false;
 };
 
 /// The server. Construct (loads the scene, binds both sockets; throws polycut::Error or

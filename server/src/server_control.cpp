@@ -448,6 +448,9 @@ protocol::HelloResult Server::Impl::hello() const {
         h.capabilities.emplace_back(protocol::method_name(m));
     }
     h.capabilities.emplace_back("binary_frames");
+    if (zap) {
+        h.capabilities.emplace_back("curve");
+    }
     h.stream = stream_endpoint;
     h.tick = session.tick();
     h.rate_hz = rate_hz;

@@ -6,6 +6,7 @@
 #include "polycut/protocol/protocol.hpp"
 #include "server.hpp"
 #include "server_command_log.hpp"
+#include "server_curve.hpp"
 #include "server_reply_cache.hpp"
 #include "server_session.hpp"
 
@@ -94,6 +95,7 @@ struct Server::Impl {
     zmq::context_t context { 1 };
     zmq::socket_t control;
     zmq::socket_t stream;
+    std::unique_ptr<ZapHandler> zap; ///< with --curve-keys: admits the authorized clients
     std::string control_endpoint;
     std::string stream_endpoint;
 

@@ -1,6 +1,8 @@
 // polycut-server: the real-time cutting server (docs/protocol.md).
 //   polycut-server [--scene FILE] [--control EP] [--stream EP] [--rate HZ] [--scene-dir DIR]
-//                  [--record-commands FILE] [--paused] [--quiet]
+//                  [--record-commands FILE] [--scene-memory MB] [--curve-keys DIR | --insecure]
+//                  [--paused] [--quiet]
+//   polycut-server --curve-keygen DIR
 //   polycut-server --replay LOG [--scene-dir DIR] [--until-tick N]
 // Prints one JSON line on stdout once both sockets are bound ({"control", "stream", ...}; ports
 // are resolved when an endpoint ends in ":*"), then logs one stats line per second on stderr.
@@ -10,6 +12,7 @@
 #include "polycut/common/stats.hpp"
 #include "server.hpp"
 #include "server_command_log.hpp"
+#include "server_curve.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -76,8 +79,10 @@ int usage(const std::string& why) {
     std::fprintf(stderr,
         "polycut-server: %s\n"
         "usage: polycut-server [--scene FILE] [--control EP] [--stream EP] [--rate HZ]\n"
-        "                      [--scene-dir DIR] [--record-commands FILE] [--paused] [--quiet]\n"
+        "                      [--scene-dir DIR] [--record-commands FILE] [--scene-memory MB]\n"
+        "                      [--curve-keys DIR | --insecure] [--paused] [--quiet]\n"
         "       polycut-server --replay LOG [--scene-dir DIR] [--until-tick N]\n"
+        "       polycut-server --curve-keygen DIR\n"
         "defaults: --control tcp://127.0.0.1:5555 --stream tcp://127.0.0.1:5556 --rate 60\n",
         why.c_str());
     return 2;
@@ -154,6 +159,8 @@ int main(int argc, char** argv) {
         const char* v = nullptr;
         if (a == "--paused") {
             config.paused = true;
+        } else if (a == "--insecure") {
+            config.insecure = true;
         } else if (a == "--quiet") {
             config.log_stats = false;
         } else if (a == "--help" || a == "-h") {
@@ -179,6 +186,13 @@ int main(int argc, char** argv) {
                 return usage("--until-tick needs a non-negative integer");
             }
             until_tick = static_cast<long>(t);
+        } else if (a == "--curve-keys") {
+            config.curve_keys = v;
+        } else if (a == "--curve-keygen") {
+            const auto client = polycut::server::write_curve_keys(v);
+            std::cout << nlohmann::json { { "dir", v }, { "client_public", client.first } }.dump()
+                      << std::endl;
+            return 0;
         } else if (a == "--scene-memory") {
             double mb = 0;
             if (!parse_double(v, mb) || !(mb > 0) || mb > 1e9) {
