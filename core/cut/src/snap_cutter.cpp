@@ -115,6 +115,7 @@ void State::begin(CutReport& r) {
     new_weights.clear();
     moved_from.clear();
     changed.assign(m.cells.size(), 0);
+    touched = 0;
     duplicated.clear();
     removed_cells_old.clear();
     removed_nodes_old.clear();
@@ -196,6 +197,7 @@ const geometry::Aabb& State::bounds(Index c) {
 
 void State::touch(Index c) {
     at(box_ok, c) = 0;
+    touched += at(changed, c) ? 0 : 1;
     at(changed, c) = 1;
 }
 
@@ -346,7 +348,7 @@ const mesh::Mesh& SnapCutter::mesh() const {
     return m_impl->s.m;
 }
 
-CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
+CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles, Index max_changed_cells) {
     Stopwatch watch;
     m_impl->validate(rest_triangles);
     auto& s = m_impl->s;
@@ -387,6 +389,8 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         snap::dissect_pending(s);
         if (s.opt.remove_degeneracies)
             snap::remove_degeneracies(s);
+        if (max_changed_cells > 0 && s.touched >= max_changed_cells)
+            break;
     }
     detail::fail_if_injected();
     s.end();

@@ -71,6 +71,7 @@ struct State {
     std::unordered_map<Index, Weights> new_weights; ///< new node -> weights over pre-call ids
     std::unordered_map<Index, Vec3> moved_from; ///< pre-existing node -> rest before the call
     std::vector<char> changed; ///< per current cell
+    Index touched = 0; ///< cells touched by the call (the budget of SnapCutter::cut)
     std::vector<std::pair<Index, Index>> duplicated;
     std::vector<Index> removed_cells_old, removed_nodes_old;
     bool compacted = false;
