@@ -87,6 +87,7 @@ void State::rebuild() {
     L = std::max(all.diagonal(), 1e-300);
     center = all.empty() ? Vec3::Zero() : all.center();
     volume0 = tet_mesh_volume(m);
+    volume_now = volume0;
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
@@ -104,7 +105,7 @@ void State::begin(CutReport& r) {
     stats = SnapStats {};
     r.nodes_before = m.num_nodes();
     r.cells_before = m.num_cells();
-    r.volume_before = tet_mesh_volume(m);
+    r.volume_before = volume_now; // what the previous call ended with (the mesh is ours)
     node_old.resize(m.rest.size());
     for (std::size_t i = 0; i < node_old.size(); ++i)
         node_old[i] = Index(i);
@@ -126,7 +127,7 @@ void State::end() {
     CutReport& r = *report;
     r.nodes_after = m.num_nodes();
     r.cells_after = m.num_cells();
-    r.volume_after = tet_mesh_volume(m);
+    r.volume_after = volume_now = tet_mesh_volume(m);
     for (Index n = 0; n < m.num_nodes(); ++n) {
         if (at(node_old, n) != kNone)
             continue;
