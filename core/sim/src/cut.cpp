@@ -198,10 +198,11 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     // configuration for the same reason).
     for (const auto& [node, old_rest] : report.moved_nodes)
         state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
-    if (!report.removed_cells.empty() || !report.node_map.empty())
+    // Renumbered nodes: a full rebuild. Cells merged away (cell_map) keep the survivors' data.
+    if (!report.node_map.empty())
         model->rebuild_topology();
     else
-        model->update_cells(report.changed_cells);
+        model->update_cells(report.changed_cells, report.cell_map);
     model->set_fixed_dofs(node_fixed_mask);
     static_solved = false;
     sync_positions();
