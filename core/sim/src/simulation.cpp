@@ -51,10 +51,8 @@ void Simulation::Impl::build() {
     model = std::make_unique<elasticity::ElasticModel>(
         mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
     integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
-    cutter.reset();
-    snap_cutter.reset();
-    locator.reset();
-    rest_locator.reset();
+    cutting.reset();
+    cut_cells_left = scene.cutting.max_cells_per_tick;
     state = integrator->rest_state();
     forces.clear();
     grabs.clear();
@@ -66,7 +64,6 @@ void Simulation::Impl::build() {
 }
 
 void Simulation::reset() {
-    m_impl->stroke_corners.clear();
     m_impl->build();
     ++m_impl->topology_version;
 }
@@ -204,6 +201,7 @@ StepReport Simulation::step() {
         }
     }
     s.cut_undo.reset();
+    s.cut_cells_left = s.scene.cutting.max_cells_per_tick;
     ++s.tick;
     s.time += dt;
     r.tick = s.tick;
