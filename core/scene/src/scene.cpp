@@ -326,7 +326,9 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
     json j;
     try {
         j = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
+        // parse_error, and out_of_range for a number that overflows a double (found by
+        // tests/fuzz/fuzz_scene: "3e471" escaped as a non-polycut exception)
         throw SceneError("/", std::string("malformed JSON: ") + e.what());
     }
     ObjectReader r(j, "");
