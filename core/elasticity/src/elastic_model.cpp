@@ -177,11 +177,13 @@ void ElasticModel::update_cells(
     }
     std::vector<char> kept; // with a cell map: the cells whose data moved to their new id
     if (!cell_map.empty()) {
-        // Cells removed (merged away): the survivors' data moves to their new ids, O(cells)
-        // moves instead of a new basis, quadrature and Ke for every cell.
+        // Cells removed (merged away): the survivors' data (everything compute_cell() makes per
+        // cell) moves to their new ids, O(cells) moves instead of a new basis, quadrature and
+        // Ke for every cell.
         std::vector<CellData> cells(n_cells);
         std::vector<Mat3> rotation(n_cells, Mat3::Identity());
         std::vector<P1Cell> p1(n_cells);
+        std::vector<double> extent2(n_cells, 0.0);
         kept.assign(n_cells, 0);
         for (std::size_t c = 0; c < std::min(cell_map.size(), m_cells.size()); ++c) {
             const Index to = cell_map[c];
@@ -190,11 +192,13 @@ void ElasticModel::update_cells(
             cells[std::size_t(to)] = std::move(m_cells[c]);
             rotation[std::size_t(to)] = m_rotation[c];
             p1[std::size_t(to)] = m_p1[c];
+            extent2[std::size_t(to)] = c < m_rest_extent2.size() ? m_rest_extent2[c] : 0.0;
             kept[std::size_t(to)] = 1;
         }
         m_cells = std::move(cells);
         m_rotation = std::move(rotation);
         m_p1 = std::move(p1);
+        m_rest_extent2 = std::move(extent2);
     } else if (n_cells < m_cells.size()) {
         rebuild_topology(); // cells removed, and no map to match them up
         return;
