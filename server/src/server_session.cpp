@@ -88,28 +88,9 @@ bool Session::is_mutation(protocol::Method method) {
     }
 }
 
-namespace {
-/// The scene's estimated memory against the budget (issue 14 item 3), before building it.
-std::optional<std::string> over_budget(const scene::Scene& scene, std::uint64_t budget) {
-    if (budget == 0) {
-        return std::nullopt;
-    }
-    const sim::SceneEstimate e = sim::estimate(scene);
-    if (!e.known || e.bytes <= double(budget)) {
-        return std::nullopt;
-    }
-    char text[256];
-    std::snprintf(text, sizeof text,
-        "scene too large: ~%.3g cells (%s) need ~%.0f MB, above the server's budget of %.0f MB "
-        "(polycut-server --scene-memory)",
-        e.cells, e.basis.c_str(), e.bytes / 1e6, double(budget) / 1e6);
-    return std::string(text);
-}
-} // namespace
-
 void Session::load_scene_file(const std::string& path) {
     scene::Scene scene = scene::load_scene(path);
-    if (auto why = over_budget(scene, m_config.max_scene_bytes)) {
+    if (auto why = sim::over_budget(scene, m_config.max_scene_bytes)) {
         throw SceneError("/geometry", *why);
     }
     std::string name
@@ -201,13 +182,13 @@ sim::StepReport Session::step() {
         if (report.cut_undone) {
             // The cuts of this tick made the model unsound and are gone: their strokes hear it.
             for (const StrokeCut& cut : m_cut_since_step) {
-                m_rejections.push_back({ cut.client, cut.from_cut ? "cut" : "scalpel", cut.stroke,
-                    cut.triangles,
-                    make_error(ErrorCode::CutRejected, "/params",
-                        "the cut was undone: the step after it failed ("
-                            + (report.warnings.empty() ? std::string("unstable")
-                                                       : report.warnings.front())
-                            + ")") });
+                m_rejections.push_back(
+                    { cut.client, cut.from_cut ? "cut" : "scalpel", cut.stroke, cut.triangles,
+                        make_error(ErrorCode::CutRejected, "/params",
+                            "the cut was undone: the step after it failed ("
+                                + (report.warnings.empty() ? std::string("unstable")
+                                                           : report.warnings.front())
+                                + ")") });
             }
             m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
         }
@@ -357,7 +338,7 @@ ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
                     "no scene named \"" + *p.name + "\" in the server's scene directory");
             }
             scene::Scene scene = scene::load_scene(path.string());
-            if (auto why = over_budget(scene, m_config.max_scene_bytes)) {
+            if (auto why = sim::over_budget(scene, m_config.max_scene_bytes)) {
                 return make_error(ErrorCode::SceneError, "/params/name", *why);
             }
             name = *p.name;
@@ -367,7 +348,7 @@ ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
             if (auto bad = check_inline_paths(scene)) {
                 return *bad;
             }
-            if (auto why = over_budget(scene, m_config.max_scene_bytes)) {
+            if (auto why = sim::over_budget(scene, m_config.max_scene_bytes)) {
                 return make_error(ErrorCode::SceneError, "/params/scene/geometry", *why);
             }
             name = "inline";
@@ -500,7 +481,8 @@ protocol::Expected<sim::CutSummary, RpcError> Session::run_cut(
     switch (summary.status) {
     case sim::CutSummary::Status::Rejected: {
         // Where in the request: the triangle, and its corner when one is to blame.
-        std::string at = protocol::pointer_append(pointer, static_cast<std::size_t>(summary.rejected_triangle));
+        std::string at = protocol::pointer_append(
+            pointer, static_cast<std::size_t>(summary.rejected_triangle));
         if (summary.rejected_corner >= 0) {
             at = protocol::pointer_append(at, static_cast<std::size_t>(summary.rejected_corner));
         }
@@ -532,11 +514,12 @@ ApplyOutcome Session::cut(const protocol::CutParams& p, std::string_view client)
         m_pending_sweep.push_back({ std::string(client), 0, world[t], true, false });
     }
     if (deferred < world.size()) {
-        m_cut_since_step.push_back({ std::string(client), true, 0,
-            static_cast<std::uint32_t>(world.size() - deferred) });
+        m_cut_since_step.push_back(
+            { std::string(client), true, 0, static_cast<std::uint32_t>(world.size() - deferred) });
     }
     return done(protocol::CutResult { effect_tick(), m_sim->topology_version(),
-        static_cast<std::uint32_t>(world.size() - deferred), static_cast<std::uint32_t>(deferred) });
+        static_cast<std::uint32_t>(world.size() - deferred),
+        static_cast<std::uint32_t>(deferred) });
 }
 
 ApplyOutcome Session::scalpel(

@@ -17,13 +17,15 @@ std::unique_ptr<polycut::sim::Simulation> make(bool snap) {
     const std::string text = std::string(R"({"name": "fuzz",
       "geometry": {"type": "box", "origin": [0, 0, 0], "size": [0.03, 0.03, 0.02],
                    "cells": [3, 3, 2], "elements": "tet"},
-      "method": ")") + (snap ? "tet" : "mvc") + R"(",
+      "method": ")")
+        + (snap ? "tet" : "mvc") + R"(",
       "material": {"youngs_modulus": 3e4, "poisson_ratio": 0.45, "density": 1000,
                    "rayleigh_stiffness": 0.02},
       "integrator": {"type": "implicit_euler", "dt": 0.0166667},
       "solver": {"type": "pcg", "preconditioner": "jacobi", "tolerance": 1e-8},
       "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}],
-      "cutting": {"method": ")" + (snap ? "snap" : "split") + R"("}})";
+      "cutting": {"method": ")"
+        + (snap ? "snap" : "split") + R"("}})";
     return std::make_unique<polycut::sim::Simulation>(polycut::scene::parse_scene(text));
 }
 } // namespace

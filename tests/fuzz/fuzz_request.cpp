@@ -26,7 +26,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     frames[0] = rest;
     Limits limits;
     limits.max_triangles_per_cut = 64;
-    const auto decoded = decode_request(std::span<const std::string_view>(frames.data(), extra + 1), limits);
+    const auto decoded
+        = decode_request(std::span<const std::string_view>(frames.data(), extra + 1), limits);
     if (decoded) {
         const Message again = encode_request(decoded.value(), EncodeOptions { extra % 2 == 1 });
         const auto round = decode_request(again, limits);

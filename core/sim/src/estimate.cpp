@@ -2,6 +2,7 @@
 #include "polycut/sim/estimate.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 
@@ -78,6 +79,22 @@ SceneEstimate estimate(const scene::Scene& s) {
     const double matrix = 8.0 * std::pow(3.0 * e.nodes_per_cell, 2.0);
     e.bytes = e.cells * (kMatrixFactor * matrix + kCellOverhead);
     return e;
+}
+
+std::optional<std::string> over_budget(const scene::Scene& scene, std::uint64_t budget) {
+    if (budget == 0) {
+        return std::nullopt;
+    }
+    const SceneEstimate e = estimate(scene);
+    if (!e.known || e.bytes <= double(budget)) {
+        return std::nullopt;
+    }
+    char text[256];
+    std::snprintf(text, sizeof text,
+        "scene too large: ~%.3g cells (%s) need ~%.0f MB, above the server's budget of %.0f MB "
+        "(polycut-server --scene-memory)",
+        e.cells, e.basis.c_str(), e.bytes / 1e6, double(budget) / 1e6);
+    return std::string(text);
 }
 
 } // namespace polycut::sim

@@ -5,6 +5,7 @@
 #include "polycut/scene/scene.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace polycut::sim {
@@ -24,5 +25,9 @@ struct SceneEstimate {
 /// and a hex ~21 kB built (element matrices, pattern, solver work arrays), ~4.5 x 8 bytes per
 /// entry of its (3n)^2 element matrix plus 1 kB.
 SceneEstimate estimate(const scene::Scene& scene);
+
+/// Why the scene does not fit a memory budget [bytes] (0 = none), as a message naming the
+/// estimate and the budget; nullopt when it fits or cannot be estimated.
+std::optional<std::string> over_budget(const scene::Scene& scene, std::uint64_t budget);
 
 } // namespace polycut::sim
