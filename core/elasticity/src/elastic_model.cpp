@@ -100,7 +100,7 @@ void ElasticModel::compute_cell(Index c) {
     const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
     cd.nodes = cell.nodes;
     cd.integration = basis::integrate_cell(*m_mesh, c, m_options);
-    cd.stiffness = element_stiffness(cd.integration, m_material);
+    cd.stiffness = element_stiffness(cd.integration, m_material, m_options.volumetric);
     const std::vector<Vec3> X = [&] {
         std::vector<Vec3> p;
         for (Index i : cell.nodes)
