@@ -386,6 +386,31 @@ double ElasticModel::max_cell_stretch(const MatX3& x) const {
     return std::sqrt(worst2);
 }
 
+void ElasticModel::cell_stretch_squared(const MatX3& x, std::vector<double>& out) const {
+    const auto cells = std::ptrdiff_t(m_cells.size());
+    out.resize(m_cells.size());
+#pragma omp parallel for num_threads(m_threads) schedule(static) if (m_threads > 1)
+    for (std::ptrdiff_t c = 0; c < cells; ++c) {
+        const std::size_t begin = m_node_offset[std::size_t(c)];
+        const std::size_t end = m_node_offset[std::size_t(c) + 1];
+        const double rest2 = m_rest_extent2[std::size_t(c)];
+        double ratio = 1.0;
+        if (end - begin >= 2 && rest2 > 0) {
+            const double* xa = x.data() + 3 * m_node_list[begin];
+            double now = 0;
+            for (std::size_t k = begin + 1; k < end; ++k) {
+                const double* xb = x.data() + 3 * m_node_list[k];
+                const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
+                now = std::max(now, dx * dx + dy * dy + dz * dz);
+            }
+            ratio = now / rest2;
+            if (std::isnan(ratio))
+                ratio = std::numeric_limits<double>::infinity();
+        }
+        out[std::size_t(c)] = ratio;
+    }
+}
+
 double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
     double energy = 0;
     for (std::size_t c = 0; c < m_cells.size(); ++c) {

@@ -247,9 +247,79 @@ void advance(const std::vector<Index>& dof_map, const VecX& v_r, double h, State
 }
 } // namespace
 
-bool Integrator::step_implicit(State& s, StepReport& report) {
+double Integrator::total_energy(const State& s) const {
+    const VecX& m = m_model->nodal_mass();
+    const auto& rest = m_model->mesh().rest;
+    double gravity = 0;
+    for (Index i = 0; i < s.x.rows(); ++i)
+        gravity -= m(i) * m_options.gravity.dot(s.x.row(i).transpose() - rest[std::size_t(i)]);
+    return energy(s) + gravity;
+}
+
+bool Integrator::step_implicit_guarded(State& s, StepReport& report, double h, int depth) {
+    if (m_guard_start.size() <= std::size_t(depth))
+        m_guard_start.resize(std::size_t(depth) + 1);
+    State& start = m_guard_start[std::size_t(depth)];
+    start.x = s.x;
+    start.v = s.v;
+    const double e0 = total_energy(s);
+    if (!step_implicit(s, report, h))
+        return false;
+    const double e1 = total_energy(s);
+    // Work of the external forces (constant over the step; gravity is in the potential).
+    double work = 0;
+    if (m_fext.size() == 3 * s.x.rows()) {
+        const auto x1 = flat(s.x);
+        const auto x0 = flat(start.x);
+        const auto& dof_map = m_model->dof_map();
+        for (std::size_t k = 0; k < dof_map.size(); ++k)
+            if (dof_map[k] != kNone)
+                work += m_fext(Index(k)) * (x1(Index(k)) - x0(Index(k)));
+    }
+    const double scale = std::max({ std::abs(e0), std::abs(e1), std::abs(work), 1e-300 });
+    if (e1 <= e0 + work + 1e-9 * scale)
+        return true;
+    if (depth >= m_options.max_energy_halvings) {
+        // Smaller steps did not remove the gain, so it does not come from the step size alone
+        // (the affine-fit rotation of hexes and polyhedra makes their corotated force slightly
+        // non-conservative). Shorten the step instead: x = x0 + s (x1 - x0), v = s v1, with
+        // the largest s in [0, 1] (bisection) whose energy does not exceed the start's plus
+        // the work done; s = 0 (the tissue held where it was, at rest) always qualifies.
+        const MatX3 x1 = s.x, v1 = s.v;
+        auto energy_at = [&](double f, double& w_out) {
+            s.x = start.x + f * (x1 - start.x);
+            s.v = f * v1;
+            w_out = f * work;
+            return total_energy(s);
+        };
+        double lo = 0, hi = 1, w = 0;
+        for (int k = 0; k < 12; ++k) {
+            const double mid = 0.5 * (lo + hi);
+            if (energy_at(mid, w) <= e0 + w + 1e-9 * scale)
+                lo = mid;
+            else
+                hi = mid;
+        }
+        energy_at(lo, w);
+        report.warnings.push_back("energy rose by " + std::to_string(e1 - e0 - work)
+            + " J in a step of " + std::to_string(h) + " s after halving it "
+            + std::to_string(depth) + " times; the step was shortened to "
+            + std::to_string(lo) + " of it");
+        return true;
+    }
+    // Redo as two half steps; the cached step matrix was made for h.
+    s.x = start.x;
+    s.v = start.v;
+    m_stiffness_age = -1;
+    ++report.substeps; // a step split in two adds one
+    const bool ok = step_implicit_guarded(s, report, 0.5 * h, depth + 1)
+        && step_implicit_guarded(s, report, 0.5 * h, depth + 1);
+    m_stiffness_age = -1;
+    return ok;
+}
+
+bool Integrator::step_implicit(State& s, StepReport& report, double h) {
     // (M + h D + h^2 K_R) dv = h (f_ext + f_int(x) - (D + h K_R) v), D = alpha M + beta K_R.
-    const double h = m_options.dt;
     const double alpha = m_model->material().rayleigh_mass;
     const double beta = m_model->material().rayleigh_stiffness;
     external_reduced();
@@ -443,7 +513,8 @@ StepReport Integrator::step(State& s) {
                 ok = step_static(s, report);
                 break;
             case IntegratorKind::ImplicitEuler:
-                ok = step_implicit(s, report);
+                ok = m_options.energy_guard ? step_implicit_guarded(s, report, m_options.dt, 0)
+                                            : step_implicit(s, report, m_options.dt);
                 break;
             case IntegratorKind::SemiImplicitEuler:
                 ok = step_semi_implicit(s, report);
@@ -466,13 +537,34 @@ StepReport Integrator::step(State& s) {
             }
         }
         if (ok) {
-            const double stretch = max_cell_stretch(s.x);
-            if (!(stretch <= m_options.stretch_limit)) {
-                ok = false;
-                report.warnings.push_back("exploded: a cell stretched " + std::to_string(stretch)
-                    + " times its rest size (limit " + std::to_string(m_options.stretch_limit)
-                    + ")");
+            // Exploded: a cell stretched past the limit that also grew more than stretch_growth
+            // times in this step (per cell). Slow, large stretch is the model's answer.
+            if (m_stretch_cells != m_model->cell_version()
+                || m_stretch2.size() != std::size_t(m_model->mesh().num_cells())) {
+                m_model->cell_stretch_squared(m_backup.x, m_stretch2);
+                m_stretch_cells = m_model->cell_version();
             }
+            m_model->cell_stretch_squared(s.x, m_stretch2_new);
+            const double limit2 = m_options.stretch_limit * m_options.stretch_limit;
+            const double growth2 = m_options.stretch_growth * m_options.stretch_growth;
+            double worst2 = 0, before2 = 1;
+            for (std::size_t c = 0; c < m_stretch2_new.size(); ++c) {
+                const double now2 = m_stretch2_new[c]; // +inf for non-finite positions
+                const bool exploded = !(now2 <= limit2) && !(now2 <= growth2 * m_stretch2[c]);
+                if (exploded && !(now2 <= worst2)) {
+                    worst2 = now2;
+                    before2 = m_stretch2[c];
+                }
+            }
+            if (worst2 > 0) {
+                ok = false;
+                report.warnings.push_back("exploded: a cell stretched "
+                    + std::to_string(std::sqrt(worst2)) + " times its rest size (limit "
+                    + std::to_string(m_options.stretch_limit) + "), "
+                    + std::to_string(std::sqrt(worst2 / before2))
+                    + " times its stretch before the step");
+            } else
+                std::swap(m_stretch2, m_stretch2_new);
         }
         if (ok) {
             if (m_options.kind != IntegratorKind::Static)

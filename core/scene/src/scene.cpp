@@ -215,6 +215,7 @@ Integrator parse_integrator(const json& j, const std::string& ptr) {
     it.max_iterations = int(r.integer("max_iterations", it.max_iterations, 1, 100000));
     it.threads = int(r.integer("threads", it.threads, 1, 256));
     it.stiffness_every = int(r.integer("stiffness_every", it.stiffness_every, 1, 1000));
+    it.energy_guard = r.boolean("energy_guard", it.energy_guard);
     r.finish();
     return it;
 }

@@ -1,6 +1,6 @@
-// sim::Simulation::sample_displacements and model_stats: the displacement field at many rest
-// points (a trade study compares runs on different meshes as fields, issue 17 item 1) and the
-// sizes of what the scene built.
+// sim::Simulation::sample_displacements, model_stats and energy: the displacement field at many
+// rest points (a trade study compares runs on different meshes as fields, issue 17 item 1), the
+// sizes of what the scene built, and the energy the extremes tests watch (item 4).
 #include "impl.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "polycut/geometry/polygon.hpp"
@@ -129,6 +129,21 @@ void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vect
             break;
         }
     }
+}
+
+Energy Simulation::energy() const {
+    const Impl& s = *m_impl;
+    Energy e;
+    const VecX& m = s.model->nodal_mass();
+    const Vec3 g = s.scene.loads.gravity;
+    for (Index i = 0; i < Index(s.state.x.rows()) && i < Index(m.size()); ++i) {
+        e.kinetic += 0.5 * m(i) * s.state.v.row(i).squaredNorm();
+        e.gravity -= m(i) * g.dot(s.state.x.row(i).transpose() - s.mesh.rest[std::size_t(i)]);
+    }
+    e.elastic = s.model->elastic_energy(s.state.x,
+        s.scene.integrator.corotated ? elasticity::ForceMode::Corotated
+                                     : elasticity::ForceMode::Linear);
+    return e;
 }
 
 ModelStats Simulation::model_stats() const {

@@ -2,7 +2,9 @@
 
 #include "polycut/common/error.hpp"
 #include "polycut/geometry/polygon.hpp"
+#include "polycut/integrate/stability.hpp"
 
+#include <cstdio>
 #include <limits>
 
 namespace polycut::sim {
@@ -152,6 +154,21 @@ VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m) {
 
 namespace polycut::sim {
 
+void check_time_step(const scene::Scene& s, const elasticity::ElasticModel& model) {
+    if (s.integrator.type != "semi_implicit_euler")
+        return;
+    const integrate::StabilityLimit limit = integrate::semi_implicit_limit(model);
+    if (s.integrator.dt <= limit.critical_dt)
+        return;
+    char text[320];
+    std::snprintf(text, sizeof text,
+        "semi_implicit_euler is unstable at dt = %.3g s on this mesh and material: its limit is "
+        "%.3g s (highest element frequency %.3g rad/s, with the scene's Rayleigh damping); use "
+        "dt <= %.3g s or \"implicit_euler\"",
+        s.integrator.dt, limit.critical_dt, limit.omega_max, limit.critical_dt);
+    throw SceneError("/integrator/dt", text);
+}
+
 integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     integrate::IntegratorOptions o;
     const auto& it = s.integrator;
@@ -184,6 +201,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.amg.rigid_body_modes = sv.amg_rigid_body_modes;
     o.threads = it.threads;
     o.stiffness_every = it.stiffness_every;
+    o.energy_guard = it.energy_guard;
     return o;
 }
 

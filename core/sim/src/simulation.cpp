@@ -43,6 +43,7 @@ void Simulation::Impl::build() {
     model = std::make_unique<elasticity::ElasticModel>(
         mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
     integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
+    check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
     cutter.reset();
     snap_cutter.reset();
     locator.reset();

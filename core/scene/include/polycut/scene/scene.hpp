@@ -88,6 +88,9 @@ struct Integrator {
     int threads = 1;
     /// implicit_euler: assemble the corotated stiffness every k steps, reuse it in between
     int stiffness_every = 1;
+    /// implicit_euler: redo a step that gains energy as two half steps (up to 16 substeps;
+    /// integrate::IntegratorOptions::energy_guard)
+    bool energy_guard = false;
 };
 
 struct Solver {

@@ -89,6 +89,15 @@ struct MeshStats {
     double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
 };
 
+/// Mechanical energy of the current state [J] (issue 17 item 4: with damping and no input, the
+/// total does not grow).
+struct Energy {
+    double kinetic = 0; ///< 1/2 v^T M v
+    double elastic = 0; ///< the model's strain energy (corotated or linear, as the scene says)
+    double gravity = 0; ///< potential of gravity relative to rest, -sum_i m_i g . (x_i - X_i)
+    double total() const { return kinetic + elastic + gravity; }
+};
+
 /// Sizes of what a scene built, for cost reports (issue 17 item 1).
 struct ModelStats {
     Index dofs = 0; ///< 3 x the nodes used by cells
@@ -187,6 +196,8 @@ public:
     /// Displacement [m] at a named probe (interpolated in the cell that contains it).
     Vec3 probe_displacement(const std::string& name) const;
     MeshStats mesh_stats() const;
+    /// Kinetic, elastic and gravitational energy of the current state.
+    Energy energy() const;
     /// DOFs, nonzeros and cells by kind of the current model.
     ModelStats model_stats() const;
     /// Displacements u [m] at rest-space points (#P): P1 interpolation in a tet, the cell's
