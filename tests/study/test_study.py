@@ -84,13 +84,19 @@ class Axes(unittest.TestCase):
         self.assertEqual(out["output"]["steps"], 500)
         self.assertEqual(scene["integrator"]["dt"], 0.01)  # the base is not changed
 
-    def test_polyhedral_methods_split_box_blocks(self):
-        scene = {"geometry": {"type": "box", "size": [1, 1, 1], "cells": [2, 2, 2], "elements": "tet"}}
-        out = axes.apply(scene, {"method": "mvc:reference", "resolution": 2})
+    def test_methods_pick_the_cells_their_basis_acts_on(self):
+        planes = {"geometry": {"type": "random_planes", "size": [1, 1, 1], "cells": [2, 2, 2],
+                               "planes_per_cell": 2}, "method": "mvc"}
+        out = axes.apply(planes, {"method": "harmonic:reference", "resolution": 2})
         self.assertEqual(out["geometry"]["type"], "random_planes")
-        self.assertNotIn("elements", out["geometry"])
         self.assertEqual(out["geometry"]["cells"], [4, 4, 4])
-        self.assertEqual(out["basis"]["rule"], "reference")
+        self.assertEqual((out["method"], out["basis"]["rule"]), ("harmonic", "reference"))
+        out = axes.apply(planes, {"method": "tet"})
+        self.assertEqual((out["geometry"]["type"], out["geometry"]["elements"]), ("box", "tet"))
+        self.assertNotIn("planes_per_cell", out["geometry"])
+        scene = {"geometry": {"type": "box", "size": [1, 1, 1], "cells": [2, 2, 2], "elements": "tet"}}
+        out = axes.apply(scene, {"method": "mvc"})
+        self.assertEqual(out["geometry"]["elements"], "hex")  # Q1 blocks, polyhedra where cut
         self.assertEqual(axes.apply(scene, {"element": "mean_dilatation"})["basis"]["volumetric"],
                          "mean_dilatation")
         self.assertEqual(axes.apply(scene, {"/material/density": 5})["material"]["density"], 5)

@@ -10,10 +10,6 @@ import math
 AXES = ("method", "element", "resolution", "quadrature", "corotation", "solver",
         "preconditioner", "tolerance", "dt", "threads")
 
-# Keys a box geometry has and a random_planes one does not, and the reverse.
-_BOX_ONLY = ("elements", "tet_split", "corners")
-
-
 class AxisError(ValueError):
     """A value an axis cannot apply to this scene (the message says which and why)."""
 
@@ -59,15 +55,13 @@ def _method(scene, value):
         elif name == "hex":
             raise AxisError(f"method hex needs a box geometry, not {geo['type']}")
     elif name in ("mvc", "harmonic"):
-        # Polyhedral bases act on cells that are neither tets nor hexes: on a box, the blocks
-        # are split by random planes (seed 000 Fig. 2), as in assets/scenes/cantilever_mvc.json.
+        # Polyhedral bases act on cells that are neither tets nor hexes: random-plane polyhedra
+        # (seed 000 Fig. 2) keep their cells; a box grid becomes hexes, Q1 until a cut splits
+        # them into polyhedra (as in assets/scenes/cut_halves.json). A base scene of random
+        # planes compares all methods on one problem (tet and hex turn it back into a box).
         if geo["type"] == "box":
-            if "corners" in geo:
-                raise AxisError(f"method {name} on a box with corners: random planes need a plain box")
-            geo["type"] = "random_planes"
-            for k in _BOX_ONLY:
-                geo.pop(k, None)
-            geo.setdefault("planes_per_cell", 2)
+            geo["elements"] = "hex"
+            geo.pop("tet_split", None)
     elif name != "dg":
         raise AxisError(f"unknown method {value!r}")
     scene["method"] = name
