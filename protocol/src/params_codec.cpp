@@ -95,9 +95,6 @@ std::vector<Triangle3> read_triangles(ObjectReader& r, FrameSet& frames, const L
             }
         }
     }
-    if (auto error = check_sweep_triangles(triangles, pointer)) {
-        throw Failure { *error };
-    }
     return triangles;
 }
 

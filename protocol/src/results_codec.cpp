@@ -134,7 +134,8 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         return c;
     }
     case 5:
-        return CutResult { m.tick(), m.u64("topology_version"), m.u32("triangles") };
+        return CutResult { m.tick(), m.u64("topology_version"), m.u32("triangles"),
+            m.r.optional("deferred") ? m.u32("deferred") : 0 };
     case 6:
         return ScalpelResult { m.tick(), m.u32("triangles") };
     default: {
@@ -210,7 +211,7 @@ json encode_result_json(const Result& result, Message& frames) {
                 out = json { { "id", r.id }, { "tick", r.tick } };
             } else if constexpr (std::is_same_v<T, CutResult>) {
                 out = json { { "tick", r.tick }, { "topology_version", r.topology_version },
-                    { "triangles", r.triangles } };
+                    { "triangles", r.triangles }, { "deferred", r.deferred } };
             } else if constexpr (std::is_same_v<T, ScalpelResult>) {
                 out = json { { "tick", r.tick }, { "triangles", r.triangles } };
             } else if constexpr (std::is_same_v<T, SurfaceSnapshot>) {

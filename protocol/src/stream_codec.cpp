@@ -42,6 +42,7 @@ void write_surface_header(const SurfaceHeader& h, json& out) {
         applied.push_back(request_id_to_json(id));
     }
     out["applied"] = std::move(applied);
+    out["cut_deferred"] = h.cut_deferred;
 }
 
 void write_surface_arrays(const SurfaceHeader& header, std::span<const float> positions,
@@ -102,6 +103,10 @@ SurfaceFrame read_surface(
     }
     for (std::size_t i = 0; i < applied.size(); ++i) {
         h.applied.push_back(read_request_id(applied[i], pointer_append(r.at("applied"), i), code));
+    }
+    if (const json* deferred = r.optional("cut_deferred")) {
+        h.cut_deferred
+            = static_cast<std::uint32_t>(read_uint(*deferred, r.at("cut_deferred"), 0, kU32, code));
     }
 
     const auto positions_ref = frames.read_ref(r.required("positions"), r.at("positions"), code);

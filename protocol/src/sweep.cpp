@@ -62,14 +62,4 @@ std::optional<std::string> triangle_defect(const Triangle3& t, double min_qualit
     return std::nullopt;
 }
 
-std::optional<RpcError> check_sweep_triangles(
-    std::span<const Triangle3> triangles, std::string_view pointer, double min_quality) {
-    for (std::size_t k = 0; k < triangles.size(); ++k) {
-        if (auto defect = triangle_defect(triangles[k], min_quality)) {
-            return make_error(ErrorCode::CutRejected, pointer_append(pointer, k), *defect);
-        }
-    }
-    return std::nullopt;
-}
-
 } // namespace polycut::protocol

@@ -143,21 +143,31 @@ int main(int argc, char** argv) {
                 && (sweeps[next_sweep].tick <= sim.tick() || s >= steps)) {
                 rec.has_cuts = true;
                 rec.cut_triangles += long(sweeps[next_sweep].triangles.size());
-                try {
-                    const auto cut = sim.cut(sweeps[next_sweep].triangles);
-                    rec.cut_ms.push_back(cut.cut_ms);
-                    rec.pieces_fixed += cut.pieces_fixed;
-                } catch (const polycut::InputError&) {
-                    throw; // a bad sweep in the scene file
-                } catch (const polycut::Error& e) {
+                auto& triangles = sweeps[next_sweep].triangles;
+                const auto cut = sim.cut(triangles);
+                rec.cut_ms.push_back(cut.cut_ms);
+                rec.pieces_fixed += cut.pieces_fixed;
+                if (cut.status == sim::CutSummary::Status::Rejected) {
+                    // A bad sweep in the scene file.
+                    throw polycut::SceneError("/cutting/sweeps/" + std::to_string(next_sweep)
+                            + "/triangles/" + std::to_string(cut.rejected_triangle),
+                        cut.reason);
+                }
+                if (cut.status == sim::CutSummary::Status::Failed) {
                     // The cut was undone; the run goes on as the server would, and says so.
                     ++rec.failed_cuts;
-                    rec.warnings.push_back(e.what());
+                    rec.warnings.push_back(cut.reason);
+                }
+                if (cut.triangles_deferred > 0) {
+                    // Past the tick's cut budget: the rest is cut after the next step.
+                    triangles.erase(triangles.begin(), triangles.end() - cut.triangles_deferred);
+                    break;
                 }
                 ++next_sweep;
             }
-            if (s >= steps)
+            if (s >= steps && next_sweep >= sweeps.size())
                 break;
+            // (past the last step only while the cut budget defers sweep triangles)
             const double cpu0 = process_cpu_ms();
             const sim::StepReport r = sim.step();
             rec.step_cpu_ms.push_back(process_cpu_ms() - cpu0);

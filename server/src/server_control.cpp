@@ -330,9 +330,12 @@ void Server::Impl::reply_error(const protocol::Message& envelope, const protocol
 void Server::Impl::publish_sweep_rejections() {
     for (const SweepRejection& r : session.take_rejections()) {
         ++errors;
-        nlohmann::json detail = { { "method", "scalpel" },
+        nlohmann::json detail = { { "method", r.method },
             { "code", static_cast<int>(r.error.code) }, { "pointer", r.error.pointer },
-            { "reason", r.error.reason }, { "stroke", r.stroke }, { "triangles", r.triangles } };
+            { "reason", r.error.reason }, { "triangles", r.triangles } };
+        if (r.method != "cut") {
+            detail["stroke"] = r.stroke;
+        }
         publish_event(
             "rejected", detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), 0);
     }

@@ -28,24 +28,6 @@ Vec3 to_vec(const protocol::Vector3& v) {
     return Vec3(v[0], v[1], v[2]);
 }
 
-/// Sim InputError locations are relative ("triangles/3/1"); make them a pointer under `base`.
-std::string pointer_under(std::string_view base, const std::string& where) {
-    std::string out(base);
-    if (where.empty()) {
-        return out;
-    }
-    // The sim names its argument "triangles"; the wire pointer already ends with it.
-    std::string_view rest(where);
-    if (rest.starts_with("triangles")) {
-        rest.remove_prefix(std::strlen("triangles"));
-    }
-    if (!rest.empty() && rest.front() != '/') {
-        out += '/';
-    }
-    out += rest;
-    return out;
-}
-
 /// A file-based geometry in an inline scene may only name a file under the scene directory.
 std::optional<RpcError> check_inline_paths(const scene::Scene& s) {
     using Kind = scene::Geometry::Kind;
@@ -165,7 +147,7 @@ ApplyOutcome Session::apply(
                 } else if constexpr (std::is_same_v<T, protocol::ReleaseParams>) {
                     return release(p);
                 } else if constexpr (std::is_same_v<T, protocol::CutParams>) {
-                    return cut(p);
+                    return cut(p, client);
                 } else if constexpr (std::is_same_v<T, protocol::ScalpelParams>) {
                     return scalpel(p, client, now_s, reply_expected);
                 } else if constexpr (std::is_same_v<T, protocol::EndStrokeParams>) {
@@ -196,7 +178,8 @@ sim::StepReport Session::step() {
         if (report.cut_undone) {
             // The cuts of this tick made the model unsound and are gone: their strokes hear it.
             for (const StrokeCut& cut : m_cut_since_step) {
-                m_rejections.push_back({ cut.client, cut.stroke, cut.triangles,
+                m_rejections.push_back({ cut.client, cut.from_cut ? "cut" : "scalpel", cut.stroke,
+                    cut.triangles,
                     make_error(ErrorCode::CutRejected, "/params",
                         "the cut was undone: the step after it failed ("
                             + (report.warnings.empty() ? std::string("unstable")
@@ -225,30 +208,72 @@ void Session::flush_sweeps() {
     }
     std::vector<PendingSweep> pending;
     pending.swap(m_pending_sweep);
-    // One cut per stroke, strokes in order of their first pending triangle: a stroke that cannot
-    // be cut loses only its own triangles.
+    // One cut per stroke (and per deferred `cut`), in order of their first pending triangle: a
+    // stroke that cannot be cut loses only its own triangles. What the tick's cut budget leaves
+    // over is carried, in order, to the next tick.
+    std::vector<PendingSweep> carried;
     std::vector<bool> done(pending.size(), false);
     for (std::size_t first = 0; first < pending.size(); ++first) {
         if (done[first]) {
             continue;
         }
+        const PendingSweep head = pending[first];
         std::vector<std::array<Vec3, 3>> sweep;
+        bool ends = false;
         for (std::size_t k = first; k < pending.size(); ++k) {
-            if (!done[k] && pending[k].client == pending[first].client
-                && pending[k].stroke == pending[first].stroke) {
-                sweep.push_back(pending[k].triangle);
+            const PendingSweep& p = pending[k];
+            if (!done[k] && p.client == head.client && p.stroke == head.stroke
+                && p.from_cut == head.from_cut) {
+                if (p.end) {
+                    ends = true;
+                } else {
+                    sweep.push_back(p.triangle);
+                }
                 done[k] = true;
             }
         }
-        const PendingSweep& head = pending[first];
-        const auto count = static_cast<std::uint32_t>(sweep.size());
-        auto summary = run_cut(sweep, "/params");
-        if (summary) {
-            m_cut_since_step.push_back({ head.client, head.stroke, count });
-        } else {
-            m_rejections.push_back({ head.client, head.stroke, count, summary.error() });
+        const char* method = head.from_cut ? "cut" : "scalpel";
+        std::size_t deferred = 0;
+        if (!sweep.empty()) {
+            const auto count = static_cast<std::uint32_t>(sweep.size());
+            auto summary = run_cut(sweep, "/params");
+            if (!summary) {
+                m_rejections.push_back(
+                    { head.client, method, head.stroke, count, summary.error() });
+                continue; // the stroke is closed already if it ended; its finish goes too
+            }
+            deferred = static_cast<std::size_t>(summary->triangles_deferred);
+            m_cut_since_step.push_back({ head.client, head.from_cut, head.stroke,
+                count - static_cast<std::uint32_t>(deferred) });
+            for (std::size_t k = sweep.size() - deferred; k < sweep.size(); ++k) {
+                PendingSweep rest = head;
+                rest.triangle = sweep[k];
+                carried.push_back(std::move(rest));
+            }
+        }
+        if (!ends) {
+            continue;
+        }
+        if (deferred > 0) {
+            PendingSweep end = head;
+            end.end = true;
+            carried.push_back(std::move(end));
+            continue;
+        }
+        const sim::CutSummary finish = m_sim->end_stroke();
+        m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
+        if (!finish.ok()) {
+            m_rejections.push_back({ head.client, "end_stroke", head.stroke, 0,
+                make_error(ErrorCode::CutRejected, "/params/stroke", finish.reason) });
         }
     }
+    carried.insert(carried.end(), m_pending_sweep.begin(), m_pending_sweep.end());
+    m_pending_sweep = std::move(carried);
+}
+
+std::size_t Session::pending_sweep_triangles() const {
+    return static_cast<std::size_t>(std::count_if(m_pending_sweep.begin(), m_pending_sweep.end(),
+        [](const PendingSweep& p) { return !p.end; }));
 }
 
 std::uint32_t Session::queue_sweep(Stroke& stroke, const protocol::Vector3& a,
@@ -274,7 +299,7 @@ std::uint32_t Session::queue_sweep(Stroke& stroke, const protocol::Vector3& a,
 
 std::optional<RpcError> Session::take_rejection(std::string_view client, std::uint64_t stroke) {
     for (auto it = m_rejections.begin(); it != m_rejections.end(); ++it) {
-        if (it->client == client && it->stroke == stroke) {
+        if (it->client == client && it->stroke == stroke && it->method != "cut") {
             RpcError error = it->error;
             m_rejections.erase(it);
             return error;
@@ -436,25 +461,27 @@ ApplyOutcome Session::release(const protocol::ReleaseParams& p) {
 
 protocol::Expected<sim::CutSummary, RpcError> Session::run_cut(
     const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer) {
-    try {
-        sim::CutSummary summary = m_sim->cut(triangles);
-        m_cut_ms += summary.cut_ms;
-        m_cells = static_cast<std::uint32_t>(summary.cells_after);
-        return summary;
-    } catch (const InputError& e) {
-        return make_error(ErrorCode::CutRejected, pointer_under(pointer, e.where()), e.problem());
-    } catch (const std::exception& e) {
+    const sim::CutSummary summary = m_sim->cut(triangles);
+    m_cut_ms += summary.cut_ms;
+    m_cells = static_cast<std::uint32_t>(summary.cells_after);
+    switch (summary.status) {
+    case sim::CutSummary::Status::Rejected: {
+        // Where in the request: the triangle, and its corner when one is to blame.
+        std::string at = protocol::pointer_append(pointer, static_cast<std::size_t>(summary.rejected_triangle));
+        if (summary.rejected_corner >= 0) {
+            at = protocol::pointer_append(at, static_cast<std::size_t>(summary.rejected_corner));
+        }
+        return make_error(ErrorCode::CutRejected, at, summary.reason);
+    }
+    case sim::CutSummary::Status::Failed:
         // The sim undid the cut: the mesh and state are as before, the loop goes on.
-        return make_error(ErrorCode::CutRejected, std::string(pointer), e.what());
+        return make_error(ErrorCode::CutRejected, std::string(pointer), "cut: " + summary.reason);
+    default:
+        return summary;
     }
 }
 
-ApplyOutcome Session::cut(const protocol::CutParams& p) {
-    // The decoder already checked the triangles (sweep.hpp); check again so a replayed log or a
-    // direct caller gets the same answer.
-    if (auto bad = protocol::check_sweep_triangles(p.triangles, "/params/triangles")) {
-        return *bad;
-    }
+ApplyOutcome Session::cut(const protocol::CutParams& p, std::string_view client) {
     std::vector<std::array<Vec3, 3>> world(p.triangles.size());
     for (std::size_t t = 0; t < p.triangles.size(); ++t) {
         for (std::size_t k = 0; k < 3; ++k) {
@@ -465,8 +492,18 @@ ApplyOutcome Session::cut(const protocol::CutParams& p) {
     if (!summary) {
         return summary.error();
     }
-    return done(protocol::CutResult {
-        effect_tick(), m_sim->topology_version(), static_cast<std::uint32_t>(p.triangles.size()) });
+    // Past the tick's cut budget the rest waits: cut over the next ticks, in order, with a
+    // `rejected` event (method "cut") if it cannot be.
+    const auto deferred = static_cast<std::size_t>(summary->triangles_deferred);
+    for (std::size_t t = world.size() - deferred; t < world.size(); ++t) {
+        m_pending_sweep.push_back({ std::string(client), 0, world[t], true, false });
+    }
+    if (deferred < world.size()) {
+        m_cut_since_step.push_back({ std::string(client), true, 0,
+            static_cast<std::uint32_t>(world.size() - deferred) });
+    }
+    return done(protocol::CutResult { effect_tick(), m_sim->topology_version(),
+        static_cast<std::uint32_t>(world.size() - deferred), static_cast<std::uint32_t>(deferred) });
 }
 
 ApplyOutcome Session::scalpel(
@@ -515,18 +552,24 @@ ApplyOutcome Session::end_stroke(const protocol::EndStrokeParams& p, std::string
     }
     const std::uint32_t total = stroke->triangles;
     m_strokes.close(client, p.stroke);
-    // The stroke's last sweep is applied now, so the reply's topology_version includes it.
+    // The stroke's last sweep is applied now, then the stroke is finished (face snapping cuts
+    // the faces it held back), so the reply's topology_version includes both; what the tick's
+    // cut budget defers is cut, and the stroke finished, over the next ticks.
+    PendingSweep end;
+    end.client = std::string(client);
+    end.stroke = p.stroke;
+    end.end = true;
+    m_pending_sweep.push_back(std::move(end));
     flush_sweeps();
     if (auto own = take_rejection(client, p.stroke)) {
         return *own;
     }
-    try {
-        m_sim->end_stroke();
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::CutRejected, "/params/stroke", e.what());
+    std::uint32_t deferred = 0;
+    for (const PendingSweep& q : m_pending_sweep) {
+        deferred += !q.end && !q.from_cut && q.client == client && q.stroke == p.stroke ? 1 : 0;
     }
-    m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
-    return done(protocol::CutResult { effect_tick(), m_sim->topology_version(), total });
+    return done(protocol::CutResult {
+        effect_tick(), m_sim->topology_version(), total - deferred, deferred });
 }
 
 std::uint64_t Session::state_hash() const {
@@ -559,6 +602,8 @@ std::uint64_t Session::state_hash() const {
     for (const PendingSweep& pending : m_pending_sweep) {
         mix(pending.client.data(), pending.client.size());
         mix_value(pending.stroke);
+        mix_value(pending.from_cut);
+        mix_value(pending.end);
         for (const Vec3& p : pending.triangle) {
             mix(p.data(), 3 * sizeof(double));
         }

@@ -44,7 +44,10 @@ using ApplyOutcome = protocol::Expected<Applied, protocol::RpcError>;
 /// changed): the server publishes each as a `rejected` event.
 struct SweepRejection {
     std::string client; ///< routing identity of the stroke's client
-    std::uint64_t stroke = 0; ///< the client's stroke id
+    /// "scalpel" (a stroke's sweep), "cut" (the deferred part of a `cut`) or "end_stroke" (the
+    /// deferred finish of a stroke)
+    std::string method = "scalpel";
+    std::uint64_t stroke = 0; ///< the client's stroke id (0 for "cut")
     std::uint32_t triangles = 0; ///< sweep triangles dropped
     protocol::RpcError error; ///< -32002 with the reason
 };
@@ -91,8 +94,9 @@ public:
         m_cut_ms = 0.0;
         return ms;
     }
-    /// Scalpel sweep triangles waiting for the next tick.
-    std::size_t pending_sweep_triangles() const { return m_pending_sweep.size(); }
+    /// Sweep triangles waiting for the next tick: scalpel samples since the last tick, and what
+    /// the cut budget (scene cutting.max_cells_per_tick) deferred.
+    std::size_t pending_sweep_triangles() const;
 
     /// Drops everything kept for a client (its open strokes).
     void drop_client(std::string_view client);
@@ -130,12 +134,13 @@ private:
     ApplyOutcome grab(const protocol::GrabParams& p);
     ApplyOutcome move_grab(const protocol::MoveGrabParams& p);
     ApplyOutcome release(const protocol::ReleaseParams& p);
-    ApplyOutcome cut(const protocol::CutParams& p);
+    ApplyOutcome cut(const protocol::CutParams& p, std::string_view client);
     ApplyOutcome scalpel(const protocol::ScalpelParams& p, std::string_view client, double now_s,
         bool reply_expected);
     ApplyOutcome end_stroke(const protocol::EndStrokeParams& p, std::string_view client);
-    /// Runs the simulation's cut; never throws. InputError becomes -32002 pointing into
-    /// `pointer`; a cut that failed (and was undone) -32002 pointing at `pointer`.
+    /// Runs the simulation's cut; never throws. A rejected triangle becomes -32002 pointing at
+    /// it under `pointer` (`pointer`/i/k); a cut that failed (and was undone) -32002 pointing
+    /// at `pointer`.
     protocol::Expected<sim::CutSummary, protocol::RpcError> run_cut(
         const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer);
     void install(std::unique_ptr<sim::Simulation> sim, std::string name);
@@ -173,11 +178,16 @@ private:
         std::string client; ///< routing identity
         std::uint64_t stroke = 0;
         std::array<Vec3, 3> triangle; ///< world space [m]
+        bool from_cut = false; ///< the deferred rest of a `cut` request (stroke 0)
+        /// Not a triangle: the stroke's end_stroke came while triangles of it were deferred;
+        /// the stroke is finished once they are cut.
+        bool end = false;
     };
     std::vector<PendingSweep> m_pending_sweep;
     /// Strokes cut since the last step (their cuts go when that step undoes them).
     struct StrokeCut {
         std::string client;
+        bool from_cut = false;
         std::uint64_t stroke = 0;
         std::uint32_t triangles = 0;
     };

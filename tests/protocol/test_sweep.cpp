@@ -45,16 +45,5 @@ TEST(ProtocolSweep, DegenerateCases) {
     EXPECT_GT(triangle_quality(sweep), 1e-3);
 }
 
-TEST(ProtocolSweep, CheckPointsAtTheFirstBadTriangle) {
-    const std::vector<Triangle3> ts = { Triangle3 { { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 } } },
-        Triangle3 { { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 } } },
-        Triangle3 { { { 0, 0, 0 }, { 1, 1, 1 }, { 2, 2, 2 } } } };
-    const auto error = check_sweep_triangles(ts, "/params/triangles");
-    ASSERT_TRUE(error.has_value());
-    EXPECT_EQ(error->code, ErrorCode::CutRejected);
-    EXPECT_EQ(error->pointer, "/params/triangles/2");
-    EXPECT_FALSE(check_sweep_triangles(std::span(ts).first(2), "/t").has_value());
-}
-
 } // namespace
 } // namespace polycut::protocol

@@ -105,6 +105,16 @@ std::vector<Case> cases() {
         json_frame(
             R"({"jsonrpc":"2.0","id":"cut-9","method":"cut","params":{"triangles":[[[0,0,0],[0.1,0,0],[0.2,0,0]]]}})"),
         ErrorCode::CutRejected, "/params/triangles/0" });
+    // Geometry is judged once, where the cut is mapped (core/cut): the pointer names the
+    // triangle, and the corner when one is to blame.
+    c.push_back({ "coincident corners",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":"cut-10","method":"cut","params":{"triangles":[[[0,0,0.01],[0.01,0,0.01],[0,0.01,0.01]],[[0,0,0],[0,0,0],[0,0.1,0]]]}})"),
+        ErrorCode::CutRejected, "/params/triangles/1" });
+    c.push_back({ "corner absurdly far",
+        json_frame(
+            R"({"jsonrpc":"2.0","id":"cut-11","method":"cut","params":{"triangles":[[[0,0,0.01],[0.01,0,0.01],[0,0.01,0.01]],[[0,0,0],[0,0.01,0],[0,0,200]]]}})"),
+        ErrorCode::CutRejected, "/params/triangles/1/2" });
     c.push_back({ "empty cut",
         json_frame(R"({"jsonrpc":"2.0","id":16,"method":"cut","params":{"triangles":[]}})"),
         ErrorCode::InvalidParams, "/params/triangles" });

@@ -97,6 +97,7 @@ std::vector<Blade> slanted_stroke(
 
 struct StrokeOutcome {
     int failed = 0, undone = 0, rolled_back = 0;
+    int deferred = 0; ///< triangles the cut budget carried to a later tick
     double completeness = 0, max_move = 0;
 };
 
@@ -107,15 +108,23 @@ StrokeOutcome play(sim::Simulation& s, const std::vector<Blade>& blades) {
     StrokeOutcome out;
     std::size_t swept_to = 0; // the last swept sample
     bool held = false;
+    // Triangles past a tick's cut budget wait for the next tick, as the server carries them.
+    std::vector<std::array<Vec3, 3>> waiting;
+    auto cut = [&](std::vector<std::array<Vec3, 3>> tris) {
+        tris.insert(tris.begin(), waiting.begin(), waiting.end());
+        waiting.clear();
+        const sim::CutSummary c = s.cut(tris);
+        if (!c.ok()) {
+            ++out.failed;
+            ADD_FAILURE() << "cut failed: " << c.reason;
+        }
+        waiting.assign(tris.end() - c.triangles_deferred, tris.end());
+        out.deferred += c.triangles_deferred;
+    };
     auto sweep = [&](std::size_t k) {
         const Blade& p = blades[swept_to];
         const Blade& q = blades[k];
-        try {
-            s.cut({ { p.a, p.b, q.a }, { p.b, q.b, q.a } });
-        } catch (const std::exception& e) {
-            ++out.failed;
-            ADD_FAILURE() << "cut " << k << " failed: " << e.what();
-        }
+        cut({ { p.a, p.b, q.a }, { p.b, q.b, q.a } });
         swept_to = k;
         held = false;
     };
@@ -126,6 +135,8 @@ StrokeOutcome play(sim::Simulation& s, const std::vector<Blade>& blades) {
             held = true;
         else
             sweep(k);
+        if (held && !waiting.empty())
+            cut({});
         const sim::StepReport r = s.step();
         out.undone += r.cut_undone ? 1 : 0;
         out.rolled_back += r.rolled_back ? 1 : 0;
@@ -135,11 +146,13 @@ StrokeOutcome play(sim::Simulation& s, const std::vector<Blade>& blades) {
     }
     if (held)
         sweep(blades.size() - 1);
-    try {
-        s.end_stroke();
-    } catch (const std::exception& e) {
+    while (!waiting.empty()) {
+        s.step();
+        cut({});
+    }
+    if (const sim::CutSummary end = s.end_stroke(); !end.ok()) {
         ++out.failed;
-        ADD_FAILURE() << "end_stroke failed: " << e.what();
+        ADD_FAILURE() << "end_stroke failed: " << end.reason;
     }
     const sim::StepReport last = s.step(); // the finished stroke steps soundly
     out.undone += last.cut_undone ? 1 : 0;

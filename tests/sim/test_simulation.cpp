@@ -112,12 +112,23 @@ TEST(Simulation, BadInputThrowsAndChangesNothing) {
     sim::GrabSpec g;
     g.stiffness = 0;
     EXPECT_THROW(s.grab(g), InputError);
-    // A collinear sweep triangle cuts nothing: skipped and counted, not an error.
-    const sim::CutSummary flat = s.cut({ { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0) } });
-    EXPECT_EQ(flat.triangles_skipped, 1);
+    // A collinear "triangle" is not a sweep triangle: rejected, pointing at it, nothing changed.
+    const sim::CutSummary flat = s.cut({ { Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1) },
+        { Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0) } });
+    EXPECT_EQ(flat.status, sim::CutSummary::Status::Rejected);
+    EXPECT_EQ(flat.rejected_triangle, 1);
+    EXPECT_EQ(flat.rejected_corner, -1);
     EXPECT_FALSE(flat.topology_changed);
-    EXPECT_THROW(s.cut({ { Vec3(0, 0, 0), Vec3(nan, 0, 0), Vec3(0, 1, 0) } }), InputError);
-    EXPECT_THROW(s.cut({}), InputError);
+    // A sliver far below the tissue's scale is a triangle that cuts nothing: skipped.
+    const sim::CutSummary tiny = s.cut({ { Vec3(0, 0, 0), Vec3(1e-7, 0, 0), Vec3(0, 1e-7, 0) } });
+    EXPECT_EQ(tiny.status, sim::CutSummary::Status::Applied);
+    EXPECT_EQ(tiny.triangles_skipped, 1);
+    const sim::CutSummary nonfinite
+        = s.cut({ { Vec3(0, 0, 0), Vec3(nan, 0, 0), Vec3(0, 1, 0) } });
+    EXPECT_EQ(nonfinite.status, sim::CutSummary::Status::Rejected);
+    EXPECT_EQ(nonfinite.rejected_triangle, 0);
+    EXPECT_EQ(nonfinite.rejected_corner, 1);
+    EXPECT_EQ(s.cut({}).status, sim::CutSummary::Status::Rejected);
     EXPECT_EQ(s.state_hash(), hash);
     EXPECT_THROW(s.probe_displacement("nowhere"), InputError);
 }

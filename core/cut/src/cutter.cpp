@@ -68,7 +68,7 @@ const mesh::Mesh& Cutter::mesh() const {
     return m_impl->ed.m;
 }
 
-CutReport Cutter::cut(std::span<const Triangle> rest_triangles) {
+CutReport Cutter::cut(std::span<const Triangle> rest_triangles, Index max_changed_cells) {
     Stopwatch watch;
     m_impl->validate(rest_triangles);
     CutReport report;
@@ -80,6 +80,8 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles) {
         if (crack.empty())
             ++report.triangles_missed;
         detail::separate(ed, crack);
+        if (max_changed_cells > 0 && Index(ed.changed_cells().size()) >= max_changed_cells)
+            break;
     }
     detail::fail_if_injected();
     detail::fix_pinched_edges(ed);

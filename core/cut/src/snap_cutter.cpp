@@ -87,6 +87,7 @@ void State::rebuild() {
     L = std::max(all.diagonal(), 1e-300);
     center = all.empty() ? Vec3::Zero() : all.center();
     volume0 = tet_mesh_volume(m);
+    volume_now = volume0;
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
@@ -104,7 +105,7 @@ void State::begin(CutReport& r) {
     stats = SnapStats {};
     r.nodes_before = m.num_nodes();
     r.cells_before = m.num_cells();
-    r.volume_before = tet_mesh_volume(m);
+    r.volume_before = volume_now; // what the previous call ended with (the mesh is ours)
     node_old.resize(m.rest.size());
     for (std::size_t i = 0; i < node_old.size(); ++i)
         node_old[i] = Index(i);
@@ -115,6 +116,7 @@ void State::begin(CutReport& r) {
     new_weights.clear();
     moved_from.clear();
     changed.assign(m.cells.size(), 0);
+    touched = 0;
     duplicated.clear();
     removed_cells_old.clear();
     removed_nodes_old.clear();
@@ -125,7 +127,7 @@ void State::end() {
     CutReport& r = *report;
     r.nodes_after = m.num_nodes();
     r.cells_after = m.num_cells();
-    r.volume_after = tet_mesh_volume(m);
+    r.volume_after = volume_now = tet_mesh_volume(m);
     for (Index n = 0; n < m.num_nodes(); ++n) {
         if (at(node_old, n) != kNone)
             continue;
@@ -196,6 +198,7 @@ const geometry::Aabb& State::bounds(Index c) {
 
 void State::touch(Index c) {
     at(box_ok, c) = 0;
+    touched += at(changed, c) ? 0 : 1;
     at(changed, c) = 1;
 }
 
@@ -346,7 +349,7 @@ const mesh::Mesh& SnapCutter::mesh() const {
     return m_impl->s.m;
 }
 
-CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
+CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles, Index max_changed_cells) {
     Stopwatch watch;
     m_impl->validate(rest_triangles);
     auto& s = m_impl->s;
@@ -387,6 +390,8 @@ CutReport SnapCutter::cut(std::span<const Triangle> rest_triangles) {
         snap::dissect_pending(s);
         if (s.opt.remove_degeneracies)
             snap::remove_degeneracies(s);
+        if (max_changed_cells > 0 && s.touched >= max_changed_cells)
+            break;
     }
     detail::fail_if_injected();
     s.end();

@@ -47,6 +47,9 @@ struct State {
     double L = 1; ///< rest bounding-box diagonal [m]
     Vec3 center; ///< rest bounding-box centre [m]
     double volume0 = 0; ///< rest volume when bound [m^3] (budget of degeneracy removal)
+    /// Rest volume after the last call [m^3]: the next call's volume before (the mesh is
+    /// changed only through this cutter between calls; rebuild() after anything else)
+    double volume_now = 0;
 
     std::vector<std::vector<Index>> node_cells;
     /// Per tet and local edge: local node marked as closest to the first sweep crossing, or -1.
@@ -71,6 +74,7 @@ struct State {
     std::unordered_map<Index, Weights> new_weights; ///< new node -> weights over pre-call ids
     std::unordered_map<Index, Vec3> moved_from; ///< pre-existing node -> rest before the call
     std::vector<char> changed; ///< per current cell
+    Index touched = 0; ///< cells touched by the call (the budget of SnapCutter::cut)
     std::vector<std::pair<Index, Index>> duplicated;
     std::vector<Index> removed_cells_old, removed_nodes_old;
     bool compacted = false;

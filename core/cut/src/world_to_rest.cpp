@@ -20,6 +20,7 @@ void WorldToRest::refit_displaced(const MatX3& u) {
 }
 
 void WorldToRest::refit(std::span<const Vec3> world, bool with_fits) {
+    // O(mesh) but allocation-free after the first call: the grid is called once per cut.
     m_world.assign(world.begin(), world.end());
     const std::size_t nc = m_mesh.cells.size();
     m_fit.assign(with_fits ? nc : 0, {});
@@ -28,35 +29,46 @@ void WorldToRest::refit(std::span<const Vec3> world, bool with_fits) {
     m_all = {};
     std::vector<Vec3> X, x;
     for (std::size_t c = 0; c < nc; ++c) {
+        geometry::Aabb& box = m_box[c];
+        for (Index n : m_mesh.cells[c].nodes)
+            box.extend(m_world[std::size_t(n)]);
+        m_all.extend(box);
+        if (!with_fits)
+            continue;
         X.clear();
         x.clear();
         for (Index n : m_mesh.cells[c].nodes) {
             X.push_back(m_mesh.rest[std::size_t(n)]);
             x.push_back(m_world[std::size_t(n)]);
-            m_box[c].extend(m_world[std::size_t(n)]);
         }
-        m_all.extend(m_box[c]);
-        if (!with_fits)
-            continue;
         m_fit[c] = geometry::fit_affine(X, x);
         const double det = m_fit[c].A.determinant();
         m_inverse[c] = std::abs(det) > 1e-12 ? Mat3(m_fit[c].A.inverse()) : Mat3::Identity();
     }
-    // Uniform grid with about one bucket per cell.
+    // Uniform grid with about one bucket per cell, stored compressed (bucket b holds
+    // m_bucket_cells[m_bucket_start[b] .. m_bucket_start[b + 1]]): counted, then filled.
     const Vec3 ext = m_all.empty() ? Vec3::Ones() : Vec3(m_all.extent().cwiseMax(1e-12));
     const double h = std::cbrt(ext.prod() / double(std::max<std::size_t>(nc, 1)));
     for (int k = 0; k < 3; ++k)
         m_dims[k] = std::clamp(int(std::ceil(ext[k] / h)), 1, 256);
     m_step = ext.cwiseQuotient(m_dims.cast<double>());
-    m_buckets.assign(std::size_t(m_dims.prod()), {});
-    for (std::size_t c = 0; c < nc; ++c) {
+    const std::size_t nb = std::size_t(m_dims.prod());
+    m_bucket_start.assign(nb + 1, 0);
+    auto each_bucket = [&](std::size_t c, auto&& f) {
         const auto lo = bucket(m_box[c].lo), hi = bucket(m_box[c].hi);
         for (int k = lo.z(); k <= hi.z(); ++k)
             for (int j = lo.y(); j <= hi.y(); ++j)
                 for (int i = lo.x(); i <= hi.x(); ++i)
-                    m_buckets[std::size_t(i + m_dims.x() * (j + m_dims.y() * k))].push_back(
-                        Index(c));
-    }
+                    f(std::size_t(i + m_dims.x() * (j + m_dims.y() * k)));
+    };
+    for (std::size_t c = 0; c < nc; ++c)
+        each_bucket(c, [&](std::size_t b) { ++m_bucket_start[b + 1]; });
+    for (std::size_t b = 0; b < nb; ++b)
+        m_bucket_start[b + 1] += m_bucket_start[b];
+    m_bucket_cells.resize(std::size_t(m_bucket_start[nb]));
+    m_fill.assign(m_bucket_start.begin(), m_bucket_start.end() - 1);
+    for (std::size_t c = 0; c < nc; ++c)
+        each_bucket(c, [&](std::size_t b) { m_bucket_cells[std::size_t(m_fill[b]++)] = Index(c); });
 }
 
 Eigen::Vector3i WorldToRest::bucket(const Vec3& x) const {
@@ -68,15 +80,18 @@ Eigen::Vector3i WorldToRest::bucket(const Vec3& x) const {
 
 std::vector<Index> WorldToRest::candidates(const geometry::Aabb& box) const {
     std::vector<Index> out;
-    if (m_buckets.empty() || !box.overlaps(m_all))
+    if (m_bucket_start.size() < 2 || !box.overlaps(m_all))
         return out;
     const auto lo = bucket(box.lo), hi = bucket(box.hi);
     for (int k = lo.z(); k <= hi.z(); ++k)
         for (int j = lo.y(); j <= hi.y(); ++j)
-            for (int i = lo.x(); i <= hi.x(); ++i)
-                for (Index c : m_buckets[std::size_t(i + m_dims.x() * (j + m_dims.y() * k))])
-                    if (m_box[std::size_t(c)].overlaps(box))
+            for (int i = lo.x(); i <= hi.x(); ++i) {
+                const std::size_t b = std::size_t(i + m_dims.x() * (j + m_dims.y() * k));
+                for (Index e = m_bucket_start[b]; e < m_bucket_start[b + 1]; ++e)
+                    if (const Index c = m_bucket_cells[std::size_t(e)];
+                        m_box[std::size_t(c)].overlaps(box))
                         out.push_back(c);
+            }
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
     return out;

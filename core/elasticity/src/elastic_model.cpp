@@ -167,28 +167,57 @@ void ElasticModel::rebuild_topology() {
     rebuild_mass();
 }
 
-void ElasticModel::update_cells(const std::vector<Index>& changed) {
-    const std::size_t old_cells = m_cells.size();
+void ElasticModel::update_cells(
+    const std::vector<Index>& changed, const std::vector<Index>& cell_map) {
     const std::size_t n_cells = std::size_t(m_mesh->num_cells());
     const std::size_t n_dofs = 3 * std::size_t(m_mesh->num_nodes());
-    // Removing cells or nodes renumbers them: nothing cached can be matched up any more.
-    if (n_cells < old_cells || n_dofs < m_fixed.size()) {
-        rebuild_topology();
+    if (n_dofs < m_fixed.size()) {
+        rebuild_topology(); // nodes renumbered: nothing cached can be matched up any more
         return;
     }
+    std::vector<char> kept; // with a cell map: the cells whose data moved to their new id
+    if (!cell_map.empty()) {
+        // Cells removed (merged away): the survivors' data (everything compute_cell() makes per
+        // cell) moves to their new ids, O(cells) moves instead of a new basis, quadrature and
+        // Ke for every cell.
+        std::vector<CellData> cells(n_cells);
+        std::vector<Mat3> rotation(n_cells, Mat3::Identity());
+        std::vector<P1Cell> p1(n_cells);
+        std::vector<double> extent2(n_cells, 0.0);
+        kept.assign(n_cells, 0);
+        for (std::size_t c = 0; c < std::min(cell_map.size(), m_cells.size()); ++c) {
+            const Index to = cell_map[c];
+            if (to == kNone || std::size_t(to) >= n_cells)
+                continue;
+            cells[std::size_t(to)] = std::move(m_cells[c]);
+            rotation[std::size_t(to)] = m_rotation[c];
+            p1[std::size_t(to)] = m_p1[c];
+            extent2[std::size_t(to)] = c < m_rest_extent2.size() ? m_rest_extent2[c] : 0.0;
+            kept[std::size_t(to)] = 1;
+        }
+        m_cells = std::move(cells);
+        m_rotation = std::move(rotation);
+        m_p1 = std::move(p1);
+        m_rest_extent2 = std::move(extent2);
+    } else if (n_cells < m_cells.size()) {
+        rebuild_topology(); // cells removed, and no map to match them up
+        return;
+    }
+    const std::size_t old_cells = cell_map.empty() ? m_cells.size() : n_cells;
     for (Index c : changed)
         if (c < 0 || std::size_t(c) >= n_cells)
             throw InputError("changed", "cell id out of range");
     // Only the listed cells and the appended ones get a new basis, quadrature and Ke, once
     // (000 sec. 5.1); appended nodes are free until set_fixed_dofs() says otherwise.
-    bool topology = n_cells != old_cells || n_dofs != m_fixed.size();
+    bool topology = n_cells != old_cells || n_dofs != m_fixed.size() || !cell_map.empty();
     m_fixed.resize(n_dofs, 0);
     m_cells.resize(n_cells);
     m_rotation.resize(n_cells, Mat3::Identity());
     m_p1.resize(n_cells);
     std::vector<Index> todo(changed);
-    for (std::size_t c = old_cells; c < n_cells; ++c)
-        todo.push_back(Index(c));
+    for (std::size_t c = cell_map.empty() ? old_cells : 0; c < n_cells; ++c)
+        if (cell_map.empty() || !kept[c])
+            todo.push_back(Index(c));
     std::sort(todo.begin(), todo.end());
     todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
     for (Index c : todo) {
@@ -197,7 +226,7 @@ void ElasticModel::update_cells(const std::vector<Index>& changed) {
         // A child of a split starts from its parent's rotation (warm start of the polar
         // decomposition); changed cells keep theirs.
         const Index parent = m_mesh->cells[k].parent;
-        if (k >= old_cells)
+        if (k >= old_cells && cell_map.empty())
             m_rotation[k] = parent >= 0 && std::size_t(parent) < old_cells
                 ? m_rotation[std::size_t(parent)]
                 : Mat3::Identity();

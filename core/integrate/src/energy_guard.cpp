@@ -1,5 +1,5 @@
 // The implicit Euler step's energy guard (IntegratorOptions::energy_guard, issue 17 item 4,
-// docs/decisions/0011): a step that gains energy is halved, and a gain no halving removes is
+// docs/decisions/0012): a step that gains energy is halved, and a gain no halving removes is
 // taken out by shortening the step.
 #include "polycut/integrate/integrator.hpp"
 

@@ -307,6 +307,8 @@ Cutting parse_cutting(const json& j, const std::string& ptr, const std::string& 
     c.method = r.choice("method", default_method, { "split", "snap" });
     c.snap_distance = r.number("snap_distance", c.snap_distance, 0, 0.5);
     c.sliver_volume = r.number("sliver_volume", c.sliver_volume, 0, 0.5);
+    c.max_cells_per_tick = r.integer(
+        "max_cells_per_tick", int(c.max_cells_per_tick), 0, std::numeric_limits<int>::max());
     for_each_item(r, "sweeps", [&](const json& item, const std::string& p) {
         ObjectReader s(item, p);
         Sweep sw;

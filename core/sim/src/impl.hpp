@@ -1,9 +1,7 @@
 // Private state of sim::Simulation, shared by its source files.
 #pragma once
 
-#include "polycut/cut/cutter.hpp"
-#include "polycut/cut/snap_cutter.hpp"
-#include "polycut/cut/world_to_rest.hpp"
+#include "polycut/cut/pipeline.hpp"
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/integrate/integrator.hpp"
 #include "polycut/integrate/options.hpp"
@@ -43,29 +41,11 @@ struct Simulation::Impl {
     std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets
     std::unique_ptr<elasticity::ElasticModel> model;
     std::unique_ptr<integrate::Integrator> integrator;
-    std::unique_ptr<cut::Cutter> cutter; ///< cutting.method "split"
-    std::unique_ptr<cut::SnapCutter> snap_cutter; ///< cutting.method "snap" (tet meshes)
-    /// A sweep corner of the current stroke already mapped to rest space, with the rest plane
-    /// of the triangle that mapped it.
-    struct StrokeCorner {
-        Vec3 world; ///< [m]
-        Vec3 rest; ///< [m]
-        Vec3 normal; ///< unit normal of the rest plane
-        double offset = 0; ///< normal . x of the rest plane [m]
-        Vec3 world_normal = Vec3::Zero(); ///< unit normal of the world triangle that mapped it
-        double world_offset = 0; ///< world_normal . x of that triangle's plane [m]
-    };
-    /// Corners of the current stroke (cleared by end_stroke() and reset()). A corner the blade
-    /// shares with an earlier triangle reuses its rest image, so consecutive triangles meet
-    /// exactly in rest space (the blade traces material points), and the new corners of a
-    /// continuing triangle snap onto its predecessor's plane when they are that close.
-    std::vector<StrokeCorner> stroke_corners;
-    /// Uniform grid over the deformed cell bounds, refitted at each cut call: finds the cells a
-    /// sweep triangle touches without scanning the mesh per triangle.
-    std::unique_ptr<cut::WorldToRest> locator;
-    /// Uniform grid over the uncut mesh at rest (built on the first cut): the cells a rest sweep
-    /// triangle can meet, for the swept area inside the tissue.
-    std::unique_ptr<cut::WorldToRest> rest_locator;
+    /// World sweep triangles to cuts (core/cut's one pipeline; made on the first cut).
+    std::unique_ptr<cut::CutPipeline> cutting;
+    /// Cells the cuts of this tick may still change (scene cutting.max_cells_per_tick; reset
+    /// by step()); the triangles past it are deferred to the next tick.
+    Index cut_cells_left = 0;
     /// What a cut may change, kept so a failed cut can be undone.
     struct Snapshot {
         mesh::PackedMesh mesh; ///< flat: a cut's undo must not cost a copy of every face vector
@@ -115,6 +95,9 @@ struct Simulation::Impl {
     void assemble_external(double sim_time);
     void fix_dofs_from_scene();
     void resize_state_after_cut(const cut::CutReport& report);
+    /// The state updates after a pipeline call that changed the mesh (or the undo of a failed
+    /// one); fills the summary's status. `before` is the snapshot taken before the change.
+    void settle_cut(cut::CutResult& result, CutSummary& summary, Snapshot& before);
     /// Throws polycut::Error when a cell the cut changed has a non-positive or non-finite rest
     /// volume.
     void check_cut_cells(const std::vector<Index>& cells) const;

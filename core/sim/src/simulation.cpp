@@ -44,10 +44,8 @@ void Simulation::Impl::build() {
         mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
     integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
     check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
-    cutter.reset();
-    snap_cutter.reset();
-    locator.reset();
-    rest_locator.reset();
+    cutting.reset();
+    cut_cells_left = scene.cutting.max_cells_per_tick;
     state = integrator->rest_state();
     forces.clear();
     grabs.clear();
@@ -59,7 +57,6 @@ void Simulation::Impl::build() {
 }
 
 void Simulation::reset() {
-    m_impl->stroke_corners.clear();
     m_impl->build();
     ++m_impl->topology_version;
 }
@@ -173,6 +170,7 @@ StepReport Simulation::step() {
         }
     }
     s.cut_undo.reset();
+    s.cut_cells_left = s.scene.cutting.max_cells_per_tick;
     ++s.tick;
     s.time += dt;
     r.tick = s.tick;

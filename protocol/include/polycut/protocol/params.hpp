@@ -97,7 +97,8 @@ struct ReleaseParams {
     bool operator==(const ReleaseParams&) const = default;
 };
 
-/// `cut`: world-space sweep triangles, each non-degenerate (sweep.hpp); 1 to
+/// `cut`: world-space sweep triangles with finite coordinates (their geometry is checked by
+/// core/cut's pipeline when the cut is applied: -32002 pointing at the triangle); 1 to
 /// Limits::max_triangles_per_cut of them. On the wire either nested arrays (T x 3 x 3) or a
 /// float32 frame of shape [T, 3, 3].
 struct CutParams {

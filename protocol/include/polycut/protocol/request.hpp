@@ -40,7 +40,7 @@ struct RequestError {
 /// Decodes a control message body (JSON frame, then binary frames; no routing envelope).
 /// Checks, in order: frame count and sizes (-32005), UTF-8 and JSON syntax (-32700), the
 /// JSON-RPC envelope (-32600), the method (-32601), the params (-32602; -32005 for too many cut
-/// triangles; -32002 for a degenerate sweep triangle), and that every binary frame is used.
+/// triangles), and that every binary frame is used.
 Expected<Request, RequestError> decode_request(
     std::span<const std::string_view> frames, const Limits& limits = {});
 /// Convenience overload.

@@ -66,6 +66,9 @@ struct CutResult {
     std::int64_t tick = 0;
     std::uint64_t topology_version = 0; ///< after the cut
     std::uint32_t triangles = 0; ///< sweep triangles applied
+    /// sweep triangles past the tick's cut budget, cut over the next ticks (stream header
+    /// `cut_deferred`; a `rejected` event if they cannot be)
+    std::uint32_t deferred = 0;
     bool operator==(const CutResult&) const = default;
 };
 

@@ -44,6 +44,8 @@ struct SurfaceHeader {
     bool has_topology = false; ///< triangles and tags follow (always true in a snapshot)
     StepReport step; ///< report of the step that produced this frame
     std::vector<RequestId> applied; ///< ids of requests applied at this tick's boundary
+    /// sweep triangles waiting for the next tick's cut (past this tick's cut budget)
+    std::uint32_t cut_deferred = 0;
     bool operator==(const SurfaceHeader&) const = default;
 };
 

@@ -1,5 +1,6 @@
-// Sweep-triangle sanity checks (pure geometry on arrays): a cut's triangles must be finite and
-// not degenerate (zero area relative to their size).
+// Sweep-triangle shape (pure geometry on arrays): the server skips the triangles of a scalpel
+// sample that did not move the blade. The triangles of a `cut` are validated once, by core/cut's
+// pipeline (docs/decisions/0010), not here.
 #pragma once
 
 #include "polycut/protocol/error.hpp"
@@ -22,9 +23,5 @@ double triangle_quality(const Triangle3& triangle);
 std::optional<std::string> triangle_defect(
     const Triangle3& triangle, double min_quality = kMinTriangleQuality);
 
-/// Checks every triangle; the first defect yields -32002 CutRejected pointing at
-/// `pointer`/k (k = the triangle's index).
-std::optional<RpcError> check_sweep_triangles(std::span<const Triangle3> triangles,
-    std::string_view pointer, double min_quality = kMinTriangleQuality);
 
 } // namespace polycut::protocol

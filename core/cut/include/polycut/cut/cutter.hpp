@@ -30,8 +30,11 @@ public:
 
     /// Cuts along sweep triangles given in REST space [m], one after the other (progressive: each
     /// extends the cut of the previous ones). Throws InputError (mesh unchanged) if any triangle
-    /// has a non-finite coordinate, is degenerate, or lies absurdly far away.
-    CutReport cut(std::span<const Triangle> rest_triangles);
+    /// has a non-finite coordinate, is degenerate, or lies absurdly far away. With
+    /// `max_changed_cells` > 0 the call stops after the first triangle that brings the cells it
+    /// changed to that many (CutReport::triangles says how many were cut; the caller passes the
+    /// rest again later).
+    CutReport cut(std::span<const Triangle> rest_triangles, Index max_changed_cells = 0);
 
     /// Splits cells crossed by the plane through `point` with normal `normal` [rest space] into
     /// two convex cells each, without separating anything. `cells` lists the cells to split (all

@@ -121,7 +121,9 @@ public:
     /// far away. The report lists new nodes (duplicates with weight 1 on their original, edge and
     /// face nodes of degeneracy removal with their interpolation weights), moved nodes, changed
     /// cells, Cut faces, removed cells/nodes with the id maps, and the rest volume before/after.
-    CutReport cut(std::span<const Triangle> rest_triangles);
+    /// With `max_changed_cells` > 0 the call stops after the first triangle that brings the
+    /// cells it changed to that many (CutReport::triangles says how many were cut).
+    CutReport cut(std::span<const Triangle> rest_triangles, Index max_changed_cells = 0);
 
     /// Forgets the remembered intersections and pending faces (the next sweep starts afresh).
     void end_sweep();

@@ -50,7 +50,9 @@ private:
     geometry::Aabb m_all;
     Eigen::Vector3i m_dims { 1, 1, 1 };
     Vec3 m_step = Vec3::Ones();
-    std::vector<std::vector<Index>> m_buckets;
+    std::vector<Index> m_bucket_start; ///< (#buckets + 1) offsets into m_bucket_cells
+    std::vector<Index> m_bucket_cells; ///< cells per bucket, bucket after bucket
+    std::vector<Index> m_fill; ///< work array of refit()
 
     Eigen::Vector3i bucket(const Vec3& x) const;
     double depth_outside(Index c, const Vec3& X) const;

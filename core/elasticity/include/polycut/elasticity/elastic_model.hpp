@@ -87,8 +87,11 @@ public:
 
     /// Recomputes the cached data of the listed cells after a cut edited them (rest positions,
     /// nodes). Cells appended to the mesh are picked up too. The sparsity pattern and scatter map
-    /// are rebuilt when a cell's node list changed or cells were added/removed.
-    void update_cells(const std::vector<Index>& changed);
+    /// are rebuilt when a cell's node list changed or cells were added/removed. With a
+    /// `cell_map` (old cell id -> new id, kNone for a cell removed: a cut that merged slivers
+    /// away), the surviving cells keep their data under their new ids and only the changed and
+    /// the new ones are recomputed; node ids must not have changed.
+    void update_cells(const std::vector<Index>& changed, const std::vector<Index>& cell_map = {});
     /// Recomputes everything from the mesh (new nodes are free; existing DOF masks are kept).
     void rebuild_topology();
     /// Replaces the fixed-DOF mask (3#N) and rebuilds the DOF numbering and pattern.

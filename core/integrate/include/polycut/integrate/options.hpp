@@ -81,7 +81,7 @@ struct IntegratorOptions {
     /// stretch after the step over its stretch before it). A cell with a zero-energy mode after
     /// a cut, or a numerically unstable step, goes past the limit in one or two steps; soft
     /// tissue that sags far under gravity stretches past it a few percent per step, which is
-    /// the model's answer, not an explosion (issue 17 item 4, docs/decisions/0011).
+    /// the model's answer, not an explosion (issue 17 item 4, docs/decisions/0012).
     double stretch_growth = 2.0;
     /// ImplicitEuler with PCG: start from the linear extrapolation 2 dv_{n-1} - dv_{n-2} of the
     /// last two velocity increments instead of dv_{n-1} (fewer iterations on smooth motion).
@@ -99,7 +99,7 @@ struct IntegratorOptions {
     /// is dissipative, but linearized once per step with the corotated stiffness (dR/dx
     /// dropped) it can gain energy when cells rotate far within a step (soft, near-incompressible
     /// tissue at large dt), and the affine-fit rotation of hexes and polyhedra makes their force
-    /// slightly non-conservative (issue 17 item 4, docs/decisions/0011). Costs two energy
+    /// slightly non-conservative (issue 17 item 4, docs/decisions/0012). Costs two energy
     /// evaluations per step.
     bool energy_guard = false;
     int max_energy_halvings = 3;

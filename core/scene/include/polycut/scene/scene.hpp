@@ -178,6 +178,9 @@ struct Cutting {
     double snap_distance = 1e-2;
     double sliver_volume
         = 1e-3; ///< cells below this fraction of their largest interior neighbour are merged
+    /// cells the cuts of one tick may change (split or rewrite) before the remaining sweep
+    /// triangles wait for the next tick (a count, so replays cut the same); 0: no limit
+    Index max_cells_per_tick = 600;
     std::vector<Sweep> sweeps;
 };
 

@@ -56,8 +56,26 @@ struct Surface {
     std::vector<std::uint8_t> tags; ///< (#T) 1 skin, 2 cut
 };
 
-/// What a cut did.
+/// What a cut did (the typed result of core/cut's pipeline, docs/decisions/0010).
 struct CutSummary {
+    enum class Status {
+        Applied, ///< every triangle was cut, skipped, or missed the tissue
+        /// The tick's budget of changed cells (scene cutting.max_cells_per_tick) was reached:
+        /// the last `triangles_deferred` triangles were not looked at; pass them again after
+        /// the next step().
+        Deferred,
+        /// Refused before anything changed: triangle `rejected_triangle` (corner
+        /// `rejected_corner`, -1 for the whole triangle) is not a usable sweep triangle.
+        Rejected,
+        /// The cutter or the model could not carry the cut out: it was undone, nothing changed.
+        Failed,
+    };
+    Status status = Status::Applied;
+    int rejected_triangle = -1; ///< Rejected: index into the call's triangles
+    int rejected_corner = -1; ///< Rejected: corner 0-2, or -1
+    std::string reason; ///< Rejected and Failed: what is wrong
+    int triangles_deferred = 0; ///< Deferred: trailing triangles not cut
+    bool ok() const { return status == Status::Applied || status == Status::Deferred; }
     int triangles_applied = 0;
     /// Sweep triangles too small to cut anything at the tissue's scale (area below 2e-10 L^2
     /// or altitude below 2e-10 L, L the tissue's diagonal), in world or rest space: skipped.
@@ -171,11 +189,13 @@ public:
     bool move_grab(long id, const Vec3& target);
     bool release(long id);
 
-    /// Cuts along world-space sweep triangles. Throws InputError for non-finite or absurdly
-    /// distant triangles without change; triangles outside the tissue or too small to cut at the
-    /// tissue's scale change nothing (counted in CutSummary::triangles_skipped). A cut the cutter
-    /// or the model cannot carry out is undone and throws polycut::Error (nothing changed). A
-    /// cut whose next step() fails is undone by that step (StepReport::cut_undone).
+    /// Cuts along world-space sweep triangles; never throws. The summary's status says what
+    /// happened: Rejected (non-finite, absurdly distant or degenerate triangles; nothing
+    /// changed), Failed (the cutter or the model could not carry it out; undone, nothing
+    /// changed), Deferred (the tick's cut budget ran out; the last triangles wait) or Applied.
+    /// Triangles outside the tissue or too small to cut at the tissue's scale change nothing
+    /// (CutSummary::triangles_skipped). A cut whose next step() fails is undone by that step
+    /// (StepReport::cut_undone).
     CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles);
     /// How far a scalpel blade should move between the samples a client's stroke is swept
     /// from [m]: cell splitting cuts strips at least a quarter of the mean cell size wide (one
@@ -183,9 +203,9 @@ public:
     /// 0 for face snapping, which keeps crossings between ticks.
     double blade_min_advance() const;
     /// Ends the current stroke: later triangles map to rest space afresh; with face snapping,
-    /// the faces it still held back are cut now. Throws polycut::Error (nothing changed) when
-    /// that cut fails; like a cut, it is undone by the next step() if that step fails.
-    void end_stroke();
+    /// the faces it still held back are cut now. Status Failed (nothing changed) when that cut
+    /// fails; like a cut, it is undone by the next step() if that step fails.
+    CutSummary end_stroke();
 
     /// Surface in the current configuration.
     Surface surface() const;

@@ -1,0 +1,98 @@
+// The one cut pipeline (issue 12 item 6, docs/decisions/0010): world-space sweep triangles and
+// the current node positions in, a typed result out. It validates each triangle once (finite,
+// near the tissue, a triangle at the tissue's scale), maps it to rest space (DESIGN.md sec. 3:
+// the blade traces material points), applies the snapping rules of docs/decisions/0005 and 0007
+// there, and hands the rest triangles to the cutter of the scene (cell splitting, 000 sec. 5, or
+// face snapping, 002 sec. 3.2) within a budget of changed cells; the triangles past the budget
+// are deferred to the next call.
+//
+// The pipeline changes only the mesh; the caller (sim::Simulation) owns the state
+// that must follow the mesh (displacements, the model, the undo snapshot).
+#pragma once
+#include "polycut/cut/cut_options.hpp"
+#include "polycut/cut/cut_report.hpp"
+#include "polycut/cut/snap_cutter.hpp"
+#include "polycut/mesh/mesh.hpp"
+
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace polycut::cut {
+
+/// Which cutter a pipeline drives.
+enum class CutMethod {
+    Split, ///< cell splitting (000 sec. 4-5), any convex cells
+    Snap, ///< face snapping (002 sec. 3.2), tet meshes
+};
+
+/// Settings of a CutPipeline.
+struct PipelineOptions {
+    CutMethod method = CutMethod::Split;
+    CutOptions split; ///< the cell-splitting cutter's tolerances
+    SnapOptions snap; ///< the face-snapping cutter's tolerances
+};
+
+/// Outcome of a pipeline call.
+enum class CutStatus {
+    Applied, ///< every triangle was cut, skipped or missed the tissue
+    Deferred, ///< the budget was reached: `deferred` trailing triangles wait for the next call
+    Rejected, ///< the input was refused before anything changed (see `rejected_triangle`)
+    Failed, ///< the cutter failed part-way: the caller must restore the mesh (see `reason`)
+};
+
+/// What a pipeline call did, with the cutter's report.
+struct CutResult {
+    CutStatus status = CutStatus::Applied;
+    CutReport report; ///< the cutter's report (empty unless something was cut)
+    /// Input triangles consumed: cut, missed or skipped (the first `consumed` of the input).
+    std::size_t consumed = 0;
+    std::size_t deferred = 0; ///< trailing input triangles not consumed (Deferred)
+    std::size_t cut = 0; ///< triangles handed to the cutter
+    std::size_t skipped = 0; ///< too small at the tissue's scale, or outside it: no change
+    double swept_area = 0; ///< rest area of the cut triangles inside the uncut tissue [m^2]
+    /// Rejected: index of the offending input triangle, and its corner (-1 for the whole
+    /// triangle); the server turns them into a JSON pointer.
+    std::ptrdiff_t rejected_triangle = -1;
+    int rejected_corner = -1;
+    std::string reason; ///< Rejected and Failed: what is wrong
+    bool ok() const { return status == CutStatus::Applied || status == CutStatus::Deferred; }
+};
+
+/// World-space sweep triangles to a cut of `mesh`. Holds the cutter, the stroke's mapped corners
+/// and two uniform grids (deformed cells, uncut cells at rest).
+class CutPipeline {
+public:
+    /// Binds to `mesh` (cut in place) and `uncut` (the mesh before any cut, for the swept area
+    /// and the blade-edge snapping); both must outlive the pipeline.
+    CutPipeline(mesh::Mesh& mesh, const mesh::Mesh& uncut, PipelineOptions options);
+    ~CutPipeline();
+    CutPipeline(const CutPipeline&) = delete;
+    CutPipeline& operator=(const CutPipeline&) = delete;
+
+    /// Validates and maps `world` triangles [m] through the current node positions `positions`
+    /// (#N) [m], then cuts the mesh along them in order. With `max_changed_cells` > 0 the cut
+    /// stops after the triangle that brings the cells it changed (split or rewritten) to that
+    /// many, and the rest is Deferred; at least one triangle is cut, so a stroke advances. The
+    /// budget is a count, not a time, so a replayed command log cuts the same. Rejected leaves everything as it was.
+    /// Failed leaves the mesh half cut: restore it and call forget(). `before_change` runs once
+    /// right before the mesh is first changed (to snapshot what the caller must undo), and not at
+    /// all when nothing is to be cut. Never throws for bad input or a failing cutter.
+    CutResult cut(std::span<const Triangle> world, std::span<const Vec3> positions,
+        Index max_changed_cells = 0, const std::function<void()>& before_change = {});
+    /// Ends the current stroke: forgets its corners; face snapping cuts the faces it held back
+    /// (their pinched edges split), so a stroke ends complete. Same contract as cut().
+    CutResult end_stroke(const std::function<void()>& before_change = {});
+    /// Forgets everything derived from the mesh (after the caller restored it).
+    void forget();
+    /// Mean cell size of the uncut mesh [m]: the cube root of its mean cell volume.
+    double cell_size() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace polycut::cut

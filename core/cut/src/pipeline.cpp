@@ -1,0 +1,343 @@
+// cut::CutPipeline: validate, map to rest space, snap, cut within a budget (see pipeline.hpp).
+#include "polycut/cut/pipeline.hpp"
+
+#include "polycut/common/error.hpp"
+#include "polycut/common/stats.hpp"
+#include "polycut/cut/completeness.hpp"
+#include "polycut/cut/cutter.hpp"
+#include "polycut/cut/world_to_rest.hpp"
+#include "polycut/geometry/affine_fit.hpp"
+#include "stroke_snap.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace polycut::cut {
+namespace {
+geometry::Aabb triangle_box(const Triangle& t) {
+    geometry::Aabb b;
+    for (const Vec3& p : t)
+        b.extend(p);
+    return b;
+}
+
+/// Shape quality 4 sqrt(3) area / (sum of squared edges): 1 for an equilateral triangle, 0 for
+/// collinear or coincident corners; scale-invariant.
+double quality(const Triangle& t) {
+    const double sum_sq
+        = (t[1] - t[0]).squaredNorm() + (t[2] - t[1]).squaredNorm() + (t[0] - t[2]).squaredNorm();
+    if (!(sum_sq > 0))
+        return 0;
+    return 2 * std::sqrt(3.0) * (t[1] - t[0]).cross(t[2] - t[0]).norm() / sum_sq;
+}
+
+double mean_cell_size(const mesh::Mesh& m) {
+    return std::cbrt(m.rest_volume() / double(std::max<Index>(1, m.num_cells())));
+}
+
+/// A sweep corner of the current stroke already mapped to rest space, with the rest plane of the
+/// triangle that mapped it.
+struct StrokeCorner {
+    Vec3 world; ///< [m]
+    Vec3 rest; ///< [m]
+    Vec3 normal; ///< unit normal of the rest plane
+    double offset = 0; ///< normal . x of the rest plane [m]
+    Vec3 world_normal = Vec3::Zero(); ///< unit normal of the world triangle that mapped it
+    double world_offset = 0; ///< world_normal . x of that triangle's plane [m]
+};
+
+// Tolerances of the mapping, relative to the uncut mesh's mean cell size (the tolerances do not
+// shrink as cuts add cells).
+// A straight stroke through a deforming tissue stays in one rest plane: new corners within
+// kStrokePlane of the predecessor's rest plane (or of its world plane) go onto its rest plane.
+constexpr double kStrokePlane = 0.05;
+// A blade within kFacePlane of the plane of a face of the cells it meets goes into that plane
+// (detail::snap_to_face_plane, docs/decisions/0005).
+constexpr double kFacePlane = 0.02;
+// A new corner within kEdgeSnap of a node of the uncut mesh or of the chord its plane cuts from a
+// face goes onto it (detail::snap_corner_to_features, docs/decisions/0007; cell splitting only).
+constexpr double kEdgeSnap = 0.05;
+// Below this area (relative to L^2, L the tissue's diagonal) or altitude (relative to L) a
+// triangle cuts nothing; the cutters reject such rest triangles, so they are skipped here first.
+constexpr double kMinSweepArea = 2 * CutOptions {}.min_area;
+// A triangle whose shape quality is below this is not a triangle (collinear corners): rejected.
+constexpr double kMinQuality = 1e-6;
+// Corners farther than this many tissue diagonals from the tissue are rejected.
+constexpr double kMaxDistance = 1e3;
+// Only the recent corners can be shared by the next triangles of a stroke.
+constexpr std::size_t kKeepCorners = 64;
+} // namespace
+
+struct CutPipeline::Impl {
+    Impl(mesh::Mesh& m, const mesh::Mesh& u, PipelineOptions o)
+        : mesh(m)
+        , uncut(u)
+        , opt(o)
+        , cell_size(mean_cell_size(u)) { }
+
+    mesh::Mesh& mesh;
+    const mesh::Mesh& uncut;
+    PipelineOptions opt;
+    double cell_size = 0;
+    std::unique_ptr<Cutter> splitter;
+    std::unique_ptr<SnapCutter> snapper;
+    /// Corners of the current stroke: a corner the blade shares with an earlier triangle reuses
+    /// its rest image, so consecutive triangles meet exactly in rest space.
+    std::vector<StrokeCorner> corners;
+    /// Uniform grid over the deformed cell bounds (refitted once per call, when first needed).
+    std::unique_ptr<WorldToRest> world_grid;
+    /// Uniform grid over the uncut mesh at rest (built once).
+    std::unique_ptr<WorldToRest> rest_grid;
+
+    bool snap() const { return opt.method == CutMethod::Snap; }
+
+    void ensure_cutter() {
+        if (snap() && !snapper)
+            snapper = std::make_unique<SnapCutter>(mesh, opt.snap);
+        else if (!snap() && !splitter)
+            splitter = std::make_unique<Cutter>(mesh, opt.split);
+    }
+
+    const WorldToRest& rest_cells() {
+        if (!rest_grid) {
+            rest_grid = std::make_unique<WorldToRest>(uncut);
+            rest_grid->refit(uncut.rest, false);
+        }
+        return *rest_grid;
+    }
+
+    const StrokeCorner* cached(const Vec3& p, double same) const {
+        for (const StrokeCorner& c : corners)
+            if ((c.world - p).norm() <= same)
+                return &c;
+        return nullptr;
+    }
+
+    /// Checks every world triangle (nothing changes on rejection).
+    bool validate(std::span<const Triangle> world, std::span<const Vec3> positions,
+        CutResult& result) const {
+        auto reject = [&](std::size_t t, int corner, std::string reason) {
+            result.status = CutStatus::Rejected;
+            result.rejected_triangle = std::ptrdiff_t(t);
+            result.rejected_corner = corner;
+            result.reason = std::move(reason);
+            return false;
+        };
+        if (world.empty())
+            return reject(0, -1, "needs at least one sweep triangle");
+        geometry::Aabb tissue;
+        for (const Vec3& p : positions)
+            tissue.extend(p);
+        const double L = tissue.diagonal();
+        for (std::size_t t = 0; t < world.size(); ++t) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                if (!world[t][k].allFinite())
+                    return reject(t, int(k), "must be finite");
+                if ((world[t][k] - tissue.center()).norm() > kMaxDistance * L)
+                    return reject(t, int(k), "is absurdly far from the tissue");
+            }
+            if (world[t][0] == world[t][1] || world[t][1] == world[t][2]
+                || world[t][2] == world[t][0])
+                return reject(t, -1, "coincident corners");
+            if (const double q = quality(world[t]); !(q >= kMinQuality))
+                return reject(t, -1,
+                    "degenerate triangle: quality " + std::to_string(q) + " < "
+                        + std::to_string(kMinQuality) + " (zero area relative to its size)");
+        }
+        return true;
+    }
+
+    /// World to rest (DESIGN.md sec. 3): each triangle through ONE least-squares affine fit of
+    /// the nodes of the cells whose deformed bounds it touches. WorldToRest::map_triangle maps
+    /// each corner through its own cell instead; for sweeps whose corners lie far outside the
+    /// tissue that extrapolates from single boundary cells and tilts the plane, so the joint fit
+    /// stays. Exact where the deformation is affine over those cells (always at rest). Corners
+    /// shared with earlier triangles of the stroke reuse their rest image; new corners close to
+    /// the predecessor's plane go onto it (a straight stroke is one rest plane, and does not
+    /// re-split the cells along its crack into slivers every tick). `source[i]`: the input index
+    /// of rest triangle i.
+    std::vector<Triangle> map(std::span<const Triangle> world, std::span<const Vec3> positions,
+        std::vector<std::size_t>& source, CutResult& result) {
+        geometry::Aabb tissue;
+        for (const Vec3& p : positions)
+            tissue.extend(p);
+        const double L = tissue.diagonal();
+        const double same = 1e-9 * L;
+        bool located = false;
+        std::vector<Triangle> rest;
+        for (std::size_t t = 0; t < world.size(); ++t) {
+            const Triangle& tri = world[t];
+            // A sliver of a sweep (the blade barely moved between two samples) cuts nothing at
+            // the tissue's scale: skipped, not an error, so a slow stroke is never rejected.
+            const double area = 0.5 * (tri[1] - tri[0]).cross(tri[2] - tri[0]).norm();
+            if (!(area > kMinSweepArea * L * L)) {
+                ++result.skipped;
+                continue;
+            }
+            Triangle r;
+            std::array<bool, 3> known {};
+            const StrokeCorner* previous = nullptr;
+            for (std::size_t k = 0; k < 3; ++k)
+                if (const StrokeCorner* c = cached(tri[k], same)) {
+                    r[k] = c->rest;
+                    known[k] = true;
+                    previous = previous ? previous : c;
+                }
+            if (!(known[0] && known[1] && known[2])) {
+                if (!world_grid)
+                    world_grid = std::make_unique<WorldToRest>(mesh);
+                if (!located) {
+                    world_grid->refit(positions, false);
+                    located = true;
+                }
+                const std::vector<Index> near = world_grid->candidates(triangle_box(tri));
+                std::set<Index> nodes;
+                for (Index c : near)
+                    nodes.insert(mesh.cells[std::size_t(c)].nodes.begin(),
+                        mesh.cells[std::size_t(c)].nodes.end());
+                if (nodes.size() < 4) {
+                    ++result.skipped; // outside the tissue: nothing to cut
+                    continue;
+                }
+                std::vector<Vec3> X, x;
+                for (Index n : nodes) {
+                    X.push_back(mesh.rest[std::size_t(n)]);
+                    x.push_back(positions[std::size_t(n)]);
+                }
+                const geometry::AffineFit fit = geometry::fit_affine(X, x);
+                if (!fit.ok || std::abs(fit.A.determinant()) < 1e-12) {
+                    ++result.skipped;
+                    continue;
+                }
+                const Mat3 Ainv = fit.A.inverse();
+                for (std::size_t k = 0; k < 3; ++k)
+                    if (!known[k]) {
+                        r[k] = Ainv * (tri[k] - fit.t);
+                        if (previous) {
+                            // In the previous triangle's plane in world space (a straight
+                            // stroke), or close to its rest plane: onto that rest plane. The
+                            // first test does not depend on the fit, which extrapolates for
+                            // corners outside the tissue and errs by a few percent of a cell on
+                            // a sagging body.
+                            const double dw
+                                = previous->world_normal.dot(tri[k]) - previous->world_offset;
+                            const double d = previous->normal.dot(r[k]) - previous->offset;
+                            if (std::abs(dw) <= kStrokePlane * cell_size
+                                || std::abs(d) <= kStrokePlane * cell_size)
+                                r[k] -= d * previous->normal;
+                        }
+                    }
+                detail::snap_to_face_plane(mesh, near, r, known, kFacePlane * cell_size, same);
+                // Cell splitting only: face snapping moves nodes onto the blade itself.
+                const Vec3 rn = (r[1] - r[0]).cross(r[2] - r[0]).normalized();
+                for (std::size_t k = 0; k < 3 && !snap(); ++k) {
+                    if (known[k] || !rn.allFinite())
+                        continue;
+                    geometry::Aabb around;
+                    around.extend(r[k] - Vec3::Constant(kEdgeSnap * cell_size));
+                    around.extend(r[k] + Vec3::Constant(kEdgeSnap * cell_size));
+                    detail::snap_corner_to_features(uncut, rest_cells().candidates(around), r[k],
+                        rn, rn.dot(r[(k + 1) % 3]), kEdgeSnap * cell_size, same);
+                }
+            }
+            const Vec3 normal = (r[1] - r[0]).cross(r[2] - r[0]);
+            const double longest
+                = std::max({ (r[1] - r[0]).norm(), (r[2] - r[1]).norm(), (r[0] - r[2]).norm() });
+            if (!(0.5 * normal.norm() > kMinSweepArea * L * L)
+                || !(normal.norm() / longest > kMinSweepArea * L)) {
+                ++result.skipped; // collapsed in rest space: nothing to cut
+                continue;
+            }
+            const Vec3 n = normal.normalized();
+            const Vec3 world_n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
+            for (std::size_t k = 0; k < 3; ++k)
+                if (!known[k])
+                    corners.push_back({ tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
+            rest.push_back(r);
+            source.push_back(t);
+        }
+        if (corners.size() > kKeepCorners)
+            corners.erase(corners.begin(), corners.end() - std::ptrdiff_t(kKeepCorners));
+        return rest;
+    }
+};
+
+CutPipeline::CutPipeline(mesh::Mesh& mesh, const mesh::Mesh& uncut, PipelineOptions options)
+    : m_impl(std::make_unique<Impl>(mesh, uncut, options)) { }
+
+CutPipeline::~CutPipeline() = default;
+
+double CutPipeline::cell_size() const {
+    return m_impl->cell_size;
+}
+
+void CutPipeline::forget() {
+    Impl& s = *m_impl;
+    s.splitter.reset();
+    s.snapper.reset();
+    s.corners.clear();
+    s.world_grid.reset();
+}
+
+CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3> positions,
+    Index max_changed_cells, const std::function<void()>& before_change) {
+    Impl& s = *m_impl;
+    CutResult result;
+    if (!s.validate(world, positions, result))
+        return result;
+    std::vector<std::size_t> source;
+    const std::vector<Triangle> rest = s.map(world, positions, source, result);
+    result.consumed = world.size();
+    if (rest.empty())
+        return result;
+    try {
+        s.ensure_cutter();
+        if (before_change)
+            before_change();
+        result.report = s.snap() ? s.snapper->cut(rest, max_changed_cells)
+                                 : s.splitter->cut(rest, max_changed_cells);
+    } catch (const std::exception& e) {
+        result.status = CutStatus::Failed;
+        result.reason = e.what();
+        return result;
+    }
+    const std::size_t applied = std::size_t(result.report.triangles);
+    result.cut = applied;
+    if (applied < rest.size()) {
+        // The budget was reached after rest triangle applied-1: the input from the next mapped
+        // triangle on waits (its corners stay mapped, so it cuts the same rest triangle later).
+        result.status = CutStatus::Deferred;
+        result.consumed = source[applied];
+        result.deferred = world.size() - result.consumed;
+        result.skipped = 0;
+        for (std::size_t t = 0, i = 0; t < result.consumed; ++t)
+            if (i < applied && source[i] == t)
+                ++i;
+            else
+                ++result.skipped;
+    }
+    for (std::size_t i = 0; i < applied; ++i)
+        result.swept_area
+            += area_inside(s.uncut, s.rest_cells().candidates(triangle_box(rest[i])), rest[i]);
+    return result;
+}
+
+CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
+    Impl& s = *m_impl;
+    s.corners.clear();
+    CutResult result;
+    if (!s.snapper)
+        return result;
+    try {
+        if (before_change)
+            before_change();
+        result.report = s.snapper->finish_sweep();
+    } catch (const std::exception& e) {
+        result.status = CutStatus::Failed;
+        result.reason = e.what();
+    }
+    return result;
+}
+
+} // namespace polycut::cut

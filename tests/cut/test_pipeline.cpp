@@ -1,0 +1,175 @@
+// cut::CutPipeline (issue 12 item 6): one validation with the triangle's index and corner, a
+// typed result, the budget of changed cells that defers the rest of a sweep to the next call
+// (and cuts the same in the end), and the Failed contract (mesh half cut, caller restores).
+#include "polycut/cut/completeness.hpp"
+#include "polycut/cut/fault_injection.hpp"
+#include "polycut/cut/invariants.hpp"
+#include "polycut/cut/pipeline.hpp"
+#include "polycut/mesh/builders.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+namespace polycut::cut {
+namespace {
+
+mesh::Mesh block(bool tets, int n = 6) {
+    mesh::BoxGrid g;
+    g.hi = Vec3(1, 1, 1);
+    g.cells = Eigen::Vector3i(n, n, n);
+    return tets ? mesh::tet_grid(g) : mesh::hex_grid(g);
+}
+
+PipelineOptions options(bool snap) {
+    PipelineOptions o;
+    o.method = snap ? CutMethod::Snap : CutMethod::Split;
+    return o;
+}
+
+/// A blade at y = 0.43 (between grid planes) from z = 1.2 down to z = 0.4, moved along x in
+/// `n` steps through the whole block: 2 n sweep triangles.
+std::vector<Triangle> stroke(int n) {
+    std::vector<Triangle> out;
+    auto at = [&](int k) { return -0.2 + 1.4 * double(k) / double(n); };
+    for (int k = 0; k < n; ++k) {
+        const Vec3 a0(at(k), 0.43, 1.2), b0(at(k), 0.43, 0.4);
+        const Vec3 a1(at(k + 1), 0.43, 1.2), b1(at(k + 1), 0.43, 0.4);
+        out.push_back({ a0, b0, a1 });
+        out.push_back({ b0, b1, a1 });
+    }
+    return out;
+}
+
+class Pipeline : public ::testing::TestWithParam<bool> { };
+
+TEST_P(Pipeline, RejectsWithTheTriangleAndCornerAndChangesNothing) {
+    mesh::Mesh m = block(GetParam());
+    const mesh::Mesh uncut = m;
+    CutPipeline p(m, uncut, options(GetParam()));
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<Triangle> tris = stroke(2);
+    bool changed = false;
+    auto watch = [&] { changed = true; };
+
+    tris[2][1] = Vec3(0.5, nan, 0.5);
+    CutResult r = p.cut(tris, m.rest, 0, watch);
+    EXPECT_EQ(r.status, CutStatus::Rejected);
+    EXPECT_EQ(r.rejected_triangle, 2);
+    EXPECT_EQ(r.rejected_corner, 1);
+    EXPECT_NE(r.reason.find("finite"), std::string::npos) << r.reason;
+
+    tris = stroke(2);
+    tris[3][0] = Vec3(1e6, 0, 0); // 1000 km away
+    r = p.cut(tris, m.rest, 0, watch);
+    EXPECT_EQ(r.status, CutStatus::Rejected);
+    EXPECT_EQ(r.rejected_triangle, 3);
+    EXPECT_EQ(r.rejected_corner, 0);
+
+    tris = stroke(2);
+    tris[1] = { Vec3(0, 0.5, 0.5), Vec3(0.5, 0.5, 0.5), Vec3(1, 0.5, 0.5) }; // collinear
+    r = p.cut(tris, m.rest, 0, watch);
+    EXPECT_EQ(r.status, CutStatus::Rejected);
+    EXPECT_EQ(r.rejected_triangle, 1);
+    EXPECT_EQ(r.rejected_corner, -1);
+
+    tris[1] = { Vec3(0, 0.5, 0.5), Vec3(0, 0.5, 0.5), Vec3(1, 0.5, 0.7) }; // coincident
+    r = p.cut(tris, m.rest, 0, watch);
+    EXPECT_EQ(r.status, CutStatus::Rejected);
+    EXPECT_EQ(r.rejected_triangle, 1);
+
+    EXPECT_EQ(p.cut({}, m.rest, 0, watch).status, CutStatus::Rejected);
+    EXPECT_FALSE(changed) << "a rejected cut must not touch the mesh";
+    EXPECT_EQ(m.num_cells(), uncut.num_cells());
+    EXPECT_EQ(m.num_nodes(), uncut.num_nodes());
+}
+
+TEST_P(Pipeline, TrianglesOutsideOrTooSmallAreSkippedWithoutAChange) {
+    mesh::Mesh m = block(GetParam());
+    const mesh::Mesh uncut = m;
+    CutPipeline p(m, uncut, options(GetParam()));
+    bool changed = false;
+    const std::vector<Triangle> tris { { Vec3(5, 5, 5), Vec3(6, 5, 5), Vec3(5, 6, 5) },
+        { Vec3(0.5, 0.5, 0.5), Vec3(0.5 + 1e-8, 0.5, 0.5), Vec3(0.5, 0.5 + 1e-8, 0.5) } };
+    const CutResult r = p.cut(tris, m.rest, 0, [&] { changed = true; });
+    EXPECT_EQ(r.status, CutStatus::Applied);
+    EXPECT_EQ(r.skipped, 2u);
+    EXPECT_EQ(r.consumed, 2u);
+    EXPECT_FALSE(changed);
+}
+
+TEST_P(Pipeline, BudgetDefersTheRestAndCutsTheSameInTheEnd) {
+    const bool snap = GetParam();
+    const std::vector<Triangle> tris = stroke(8);
+    // Reference: the whole stroke in one call.
+    mesh::Mesh whole = block(snap);
+    const mesh::Mesh uncut = whole;
+    CutPipeline one(whole, uncut, options(snap));
+    const CutResult all = one.cut(tris, whole.rest);
+    ASSERT_EQ(all.status, CutStatus::Applied) << all.reason;
+    ASSERT_TRUE(one.end_stroke().ok()); // face snapping cuts the faces it held back
+    const std::size_t budget = all.report.changed_cells.size() / 6;
+    ASSERT_GT(budget, 0u);
+
+    // The same stroke under a budget of a sixth of the cells it changes: passed again, the
+    // deferred rest each time, until nothing is left.
+    mesh::Mesh m = uncut;
+    CutPipeline p(m, uncut, options(snap));
+    std::vector<Triangle> left = tris;
+    int calls = 0;
+    double swept = 0;
+    while (!left.empty() && calls < 100) {
+        const CutResult r = p.cut(left, m.rest, Index(budget));
+        ASSERT_TRUE(r.ok()) << r.reason;
+        ++calls;
+        EXPECT_GE(r.consumed, 1u) << "each call must advance";
+        EXPECT_EQ(r.consumed + r.deferred, left.size());
+        // A call stops once it has reached the budget; the triangle that crossed it may
+        // overshoot by what one triangle changes.
+        if (r.status == CutStatus::Deferred) {
+            EXPECT_GE(r.report.changed_cells.size(), budget);
+        }
+        swept += r.swept_area;
+        left.erase(left.begin(), left.begin() + std::ptrdiff_t(r.consumed));
+    }
+    EXPECT_TRUE(left.empty());
+    ASSERT_TRUE(p.end_stroke().ok());
+    EXPECT_GE(calls, 3) << "the budget should have split the stroke";
+    // Same swept area, same opened area (both lips), a valid mesh.
+    EXPECT_NEAR(swept, all.swept_area, 1e-12);
+    EXPECT_NEAR(cut_face_area(m), cut_face_area(whole), 0.02 * cut_face_area(whole));
+    EXPECT_NEAR(cut_face_area(m) / (2 * swept), 1.0, snap ? 0.05 : 0.01);
+    InvariantOptions io;
+    io.volume_tol = snap ? 1e-3 : 1e-9; // face snapping may move the skin by its volume budget
+    const CutInvariants inv = check_cut_invariants(m, uncut.rest_volume(), io);
+    EXPECT_TRUE(inv.ok()) << inv.first_problem;
+}
+
+TEST_P(Pipeline, FailureReportsAndLeavesTheRestoreToTheCaller) {
+    const bool snap = GetParam();
+    mesh::Mesh m = block(snap);
+    const mesh::Mesh uncut = m;
+    CutPipeline p(m, uncut, options(snap));
+    bool snapshot = false;
+    inject_cut_failures(1);
+    const CutResult r = p.cut(stroke(2), m.rest, 0, [&] { snapshot = true; });
+    inject_cut_failures(0);
+    EXPECT_EQ(r.status, CutStatus::Failed);
+    EXPECT_FALSE(r.ok());
+    EXPECT_NE(r.reason.find("injected"), std::string::npos) << r.reason;
+    EXPECT_TRUE(snapshot) << "the caller must have been asked to snapshot before the change";
+    // The caller restores and the pipeline forgets: the next cut works.
+    m = uncut;
+    p.forget();
+    const CutResult again = p.cut(stroke(2), m.rest);
+    EXPECT_EQ(again.status, CutStatus::Applied) << again.reason;
+    EXPECT_GT(again.swept_area, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cutters, Pipeline, ::testing::Values(false, true),
+    [](const ::testing::TestParamInfo<bool>& param) {
+        return param.param ? std::string("FaceSnapping") : std::string("CellSplitting");
+    });
+
+} // namespace
+} // namespace polycut::cut
