@@ -1,33 +1,70 @@
 // polycut-run: runs a scene without a server and prints one JSON document to stdout.
-//   polycut-run SCENE.json [--steps N] [--vtu DIR]
+//   polycut-run SCENE.json [--steps N] [--vtu DIR] [--samples POINTS.json]
 // Static scenes are solved to convergence; dynamic scenes run N steps (default: the scene's
 // output.steps). Scripted sweeps in the scene are applied at their ticks. CGAL-meshed geometry
-// adds "meshing" (repair and tet quality) to the report. Bad input: a message on
-// stderr and exit status 2.
+// adds "meshing" (repair and tet quality) to the report. The report's "cost" holds set-up time,
+// CPU time per step and peak memory, "model" the DOFs and nonzeros; --samples reads
+// {"points": [[x, y, z], ...]} (rest space [m]) and reports the displacement there at the end
+// (a trade study's field comparison, docs/study.md). Bad input: a message on stderr and exit
+// status 2.
 #include "polycut/common/error.hpp"
+#include "polycut/common/stats.hpp"
 #include "polycut/sim/simulation.hpp"
 #include "run_report.hpp"
 
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sys/resource.h>
 #include <memory>
 #include <string>
 
 namespace {
 
 int usage(const char* why) {
-    std::fprintf(
-        stderr, "polycut-run: %s\nusage: polycut-run SCENE.json [--steps N] [--vtu DIR]\n", why);
+    std::fprintf(stderr,
+        "polycut-run: %s\nusage: polycut-run SCENE.json [--steps N] [--vtu DIR] "
+        "[--samples POINTS.json]\n",
+        why);
     return 2;
+}
+
+/// Peak resident set size of this process so far [KiB].
+long peak_rss_kb() {
+    rusage u {};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_maxrss;
+}
+
+/// Reads {"points": [[x, y, z], ...]}; throws polycut::InputError naming the bad entry.
+std::vector<polycut::Vec3> read_points(const std::string& path) {
+    std::ifstream in(path);
+    if (!in)
+        throw polycut::FileError(path, 0, "cannot open the samples file");
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("points") || !j["points"].is_array())
+        throw polycut::InputError(path, "expected {\"points\": [[x, y, z], ...]}");
+    std::vector<polycut::Vec3> out;
+    for (std::size_t i = 0; i < j["points"].size(); ++i) {
+        const auto& p = j["points"][i];
+        if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number()
+            || !p[2].is_number())
+            throw polycut::InputError(
+                path + ": /points/" + std::to_string(i), "must be [x, y, z] [m]");
+        out.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+        if (!out.back().allFinite())
+            throw polycut::InputError(path + ": /points/" + std::to_string(i), "must be finite");
+    }
+    return out;
 }
 
 } // namespace
 
 int main(int argc, char** argv) {
     using namespace polycut;
-    std::string scene_path, vtu_dir;
+    std::string scene_path, vtu_dir, samples_path;
     long steps = -1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -38,6 +75,8 @@ int main(int argc, char** argv) {
                 return usage("--steps needs a non-negative integer");
         } else if (a == "--vtu" && i + 1 < argc) {
             vtu_dir = argv[++i];
+        } else if (a == "--samples" && i + 1 < argc) {
+            samples_path = argv[++i];
         } else if (a == "--help" || a == "-h") {
             usage("help");
             return 0;
@@ -53,6 +92,8 @@ int main(int argc, char** argv) {
         return usage("no scene file given");
 
     try {
+        const std::vector<Vec3> sample_points
+            = samples_path.empty() ? std::vector<Vec3> {} : read_points(samples_path);
         scene::Scene scene = scene::load_scene(scene_path);
         // Errors found while building the mesh and model name the file like parse errors do.
         auto make_sim = [&] {
@@ -62,10 +103,15 @@ int main(int argc, char** argv) {
                 throw SceneError(e.where(), e.problem() + " (in " + scene_path + ")");
             }
         };
+        const Stopwatch setup_watch;
+        const double setup_cpu0 = process_cpu_ms();
         const std::unique_ptr<sim::Simulation> sim_ptr = make_sim();
         sim::Simulation& sim = *sim_ptr;
         const scene::Scene& sc = sim.scene();
         run::RunRecord rec;
+        rec.setup_ms = setup_watch.ms();
+        rec.setup_cpu_ms = process_cpu_ms() - setup_cpu0;
+        rec.setup_rss_kb = peak_rss_kb();
         rec.scene = sc.name;
         rec.method = sc.method;
         rec.meshing = sim.meshing_summary();
@@ -122,7 +168,9 @@ int main(int argc, char** argv) {
             if (s >= steps && next_sweep >= sweeps.size())
                 break;
             // (past the last step only while the cut budget defers sweep triangles)
+            const double cpu0 = process_cpu_ms();
             const sim::StepReport r = sim.step();
+            rec.step_cpu_ms.push_back(process_cpu_ms() - cpu0);
             rec.steps++;
             rec.step_ms.push_back(r.step_ms);
             rec.assembly_ms.push_back(r.assembly_ms);
@@ -140,6 +188,12 @@ int main(int argc, char** argv) {
             rec.has_cuts = true;
         for (const auto& p : sc.probes)
             rec.probes.emplace_back(p.name, sim.probe_displacement(p.name));
+        rec.model = sim.model_stats();
+        if (!sample_points.empty()) {
+            rec.sample_points = sample_points;
+            sim.sample_displacements(sample_points, rec.sample_u, rec.sample_inside);
+        }
+        rec.peak_rss_kb = peak_rss_kb();
         std::cout << run::to_json(rec).dump(2) << std::endl;
         return 0;
     } catch (const polycut::Error& e) {

@@ -56,6 +56,23 @@ nlohmann::json to_json(const RunRecord& r) {
     j["timing"] = { { "step_ms", summary_json(summarize(r.step_ms)) },
         { "assembly_ms", summary_json(summarize(r.assembly_ms)) },
         { "solve_ms", summary_json(summarize(r.solve_ms)) } };
+    j["cost"] = { { "setup_ms", r.setup_ms }, { "setup_cpu_ms", r.setup_cpu_ms },
+        { "step_cpu_ms", summary_json(summarize(r.step_cpu_ms)) },
+        { "setup_rss_mb", double(r.setup_rss_kb) / 1024.0 },
+        { "peak_rss_mb", double(r.peak_rss_kb) / 1024.0 } };
+    j["model"] = { { "dofs", r.model.dofs }, { "free_dofs", r.model.free_dofs },
+        { "nonzeros", r.model.nonzeros },
+        { "cells", { { "tet", r.model.tets }, { "hex", r.model.hexes },
+                       { "polyhedron", r.model.polyhedra } } } };
+    if (!r.sample_points.empty()) {
+        nlohmann::json u = nlohmann::json::array(), inside = nlohmann::json::array();
+        for (std::size_t i = 0; i < r.sample_points.size(); ++i) {
+            u.push_back({ r.sample_u[i].x(), r.sample_u[i].y(), r.sample_u[i].z() });
+            inside.push_back(r.sample_inside[i] != 0);
+        }
+        j["samples"] = { { "count", r.sample_points.size() }, { "displacement", u },
+            { "inside", inside } };
+    }
     j["solver"] = { { "iterations", summary_json(summarize(r.iterations)) },
         { "max_residual", r.max_residual }, { "rolled_back_steps", r.rolled_back } };
     if (r.has_cuts) {

@@ -31,6 +31,16 @@ struct RunRecord {
     long failed_cuts = 0; ///< cuts the simulation could not apply (undone, reported)
     long undone_cuts = 0; ///< steps that undid the cuts before them (the model was unsound)
     std::vector<std::pair<std::string, Vec3>> probes;
+    // Cost (issue 17 item 1)
+    double setup_ms = 0; ///< wall time of building the simulation from the scene [ms]
+    double setup_cpu_ms = 0; ///< CPU time of the same, all threads [ms]
+    std::vector<double> step_cpu_ms; ///< CPU time of each step, all threads [ms]
+    long setup_rss_kb = 0; ///< peak resident memory after set-up [KiB]
+    long peak_rss_kb = 0; ///< peak resident memory of the run [KiB]
+    sim::ModelStats model; ///< DOFs, nonzeros, cells by kind (at the end of the run)
+    /// --samples: rest points and the displacement there at the end (inside 0: in no cell)
+    std::vector<Vec3> sample_points, sample_u;
+    std::vector<std::uint8_t> sample_inside;
 };
 
 nlohmann::json summary_json(const Summary& s);

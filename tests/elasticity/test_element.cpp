@@ -113,3 +113,72 @@ TEST(Rotation, FitGradientsGiveTheAffineMap) {
         A += (A0 * X[std::size_t(i)] + Vec3(1, 2, 3)) * G.row(i);
     EXPECT_LT((A - A0).norm(), 1e-12);
 }
+
+namespace {
+/// Displacement (3n) of the nodes X under u(x) = A x.
+VecX affine_field(const std::vector<Vec3>& X, const Mat3& A) {
+    VecX u(3 * Index(X.size()));
+    for (std::size_t i = 0; i < X.size(); ++i)
+        u.segment<3>(3 * Index(i)) = A * X[i];
+    return u;
+}
+} // namespace
+
+// B-bar mean dilatation (basis::VolumetricRule::MeanDilatation, issue 17 item 5): the same
+// rigid-mode kernel, the same energy for every constant strain (the patch test: the mean of a
+// constant dilatation is itself), identical to P1 on a tet, and stiffer by far less than full
+// integration against the bending mode u_x = x y of a hex at nu -> 0.5 (the mode full
+// integration locks on: its pointwise dilatation y is not zero, its mean over the cell is).
+TEST(ElementStiffness, MeanDilatationKeepsRigidModesAndConstantStrains) {
+    for (unsigned seed : { 3u, 11u }) {
+        const auto X = distorted_hex(seed);
+        const basis::CellIntegration ci = basis::q1_integration(X, 2);
+        for (double nu : { 0.0, 0.3, 0.4999 }) {
+            const MatX K = element_stiffness(ci, material(nu), basis::VolumetricRule::MeanDilatation);
+            EXPECT_LT((K - K.transpose()).norm(), 1e-13 * K.norm());
+            const Eigen::SelfAdjointEigenSolver<MatX> eig(K);
+            const VecX ev = eig.eigenvalues();
+            int zeros = 0;
+            for (Index i = 0; i < ev.size(); ++i) {
+                EXPECT_GT(ev(i), -1e-12 * ev(ev.size() - 1));
+                zeros += std::abs(ev(i)) < 1e-10 * ev(ev.size() - 1) ? 1 : 0;
+            }
+            EXPECT_EQ(zeros, 6) << "nu " << nu;
+            const MatX Kfull = element_stiffness(ci, material(nu));
+            std::mt19937 rng(seed);
+            std::uniform_real_distribution<double> d(-0.01, 0.01);
+            Mat3 A;
+            for (int k = 0; k < 9; ++k)
+                A(k / 3, k % 3) = d(rng);
+            const VecX u = affine_field({ X.begin(), X.end() }, A);
+            const double e_bar = u.dot(K * u), e_full = u.dot(Kfull * u);
+            EXPECT_NEAR(e_bar, e_full, 1e-11 * e_full) << "nu " << nu;
+        }
+    }
+}
+
+TEST(ElementStiffness, MeanDilatationIsP1OnTetsAndUnlocksHexBending) {
+    const std::array<Vec3, 4> T { Vec3(0.1, 0.0, 0.2), Vec3(1.2, 0.1, 0.0), Vec3(0.3, 0.9, 0.1),
+        Vec3(0.2, 0.3, 1.0) };
+    const auto ti = basis::p1_integration(T);
+    const MatX Kp1 = element_stiffness(ti, material(0.49));
+    EXPECT_LT(
+        (element_stiffness(ti, material(0.49), basis::VolumetricRule::MeanDilatation) - Kp1).norm(),
+        1e-12 * Kp1.norm());
+    // Unit cube, bending u_x = (x - 1/2)(y - 1/2): at nu = 0.4999 full integration stores
+    // lambda-sized energy, the mean dilatation (zero) none of it.
+    std::array<Vec3, 8> X;
+    const auto& R = basis::q1_reference_nodes();
+    for (int i = 0; i < 8; ++i)
+        X[std::size_t(i)] = 0.5 * (R.row(i).transpose() + Vec3::Ones());
+    const auto ci = basis::q1_integration(X, 2);
+    VecX u = VecX::Zero(24);
+    for (int i = 0; i < 8; ++i)
+        u(3 * i) = (X[std::size_t(i)].x() - 0.5) * (X[std::size_t(i)].y() - 0.5);
+    const Material m = material(0.4999);
+    const double e_full = u.dot(element_stiffness(ci, m) * u);
+    const double e_bar = u.dot(element_stiffness(ci, m, basis::VolumetricRule::MeanDilatation) * u);
+    // Exact: deviatoric energy only, ~mu; full integration adds ~lambda / 36 (lambda / mu ~ 1e4).
+    EXPECT_LT(e_bar, 1.0 * m.mu());
+    EXPECT_GT(e_full, 50 * e_bar);
+}

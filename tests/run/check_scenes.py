@@ -163,6 +163,66 @@ elif GROUP == "organ":
     # Geometry that is not meshed by CGAL has no "meshing" report.
     r = run("default", "--steps", "1")
     check(r is not None and "meshing" not in r, "default (box): no meshing report")
+elif GROUP == "cook":
+    # issue 17 item 5: Cook's membrane in plane strain; P1 and Q1 lock at nu = 0.4999, the
+    # mean-dilatation hexes (B-bar) reach the reference 28.0 within 5 %.
+    def cook(name, nu=None, n=None, tmp=None):
+        if nu is None:
+            r = run(name)
+        else:
+            with open(os.path.join(DIR, name + ".json")) as f:
+                s = json.load(f)
+            s["material"]["poisson_ratio"] = nu
+            s["geometry"]["cells"] = [n, n, 1]
+            path = os.path.join(tmp, f"{name}_{n}.json")
+            with open(path, "w") as f:
+                json.dump(s, f)
+            r = run(name, path=path)
+        return r["probes"]["c"]["displacement"][1] if r else float("nan")
+    v = {name: cook(name) for name in ("cook_tet", "cook_hex", "cook_hex_bbar")}
+    e = abs(v["cook_hex_bbar"] - 28.0) / 28.0
+    check(e <= 0.05, f"cook_hex_bbar: {v['cook_hex_bbar']:.2f} within 5 % of 28.0 ({100 * e:.1f} %)")
+    for name in ("cook_tet", "cook_hex"):
+        check(v[name] < 0.6 * 28.0, f"{name}: {v[name]:.2f} locks (below 60 % of 28.0)")
+    # nu = 1/3: the mean dilatation changes nothing beyond the convergence order: its gap to
+    # full Q1 shrinks at least 2x per halving of h, and both are within 1 % of 32.0 at 64.
+    with tempfile.TemporaryDirectory() as tmp:
+        gaps = []
+        for n in (16, 32, 64):
+            q1, bbar = cook("cook_hex", 1 / 3, n, tmp), cook("cook_hex_bbar", 1 / 3, n, tmp)
+            gaps.append(abs(bbar - q1))
+            print(f"     nu = 1/3, {n} x {n}: Q1 {q1:.3f}, B-bar {bbar:.3f}")
+        check(gaps[1] <= 0.5 * gaps[0] and gaps[2] <= 0.5 * gaps[1],
+              f"nu = 1/3: |B-bar - Q1| {gaps[0]:.3f} -> {gaps[1]:.3f} -> {gaps[2]:.3f} halves or better per refinement")
+        check(abs(q1 - 32.0) <= 0.32 and abs(bbar - 32.0) <= 0.32,
+              f"nu = 1/3, 64 x 64: Q1 {q1:.2f} and B-bar {bbar:.2f} within 1 % of 32.0")
+elif GROUP == "lame":
+    # issue 17 item 1: Lame's hollow sphere under internal pressure (a pressure load, a CGAL-meshed
+    # cavity, 3-2-1 supports): u_r(a) = p a^3 / (E (b^3 - a^3)) ((1 - 2 nu) a + (1 + nu) b^3 / (2 a^2)).
+    with open(os.path.join(DIR, "lame_sphere.json")) as f:
+        scene = json.load(f)
+    a, b = scene["geometry"]["inner_radius"], scene["geometry"]["radius"]
+    p, E, nu = scene["loads"]["pressure"][0]["pressure"], scene["material"]["youngs_modulus"], scene["material"]["poisson_ratio"]
+    exact = p * a ** 3 / (E * (b ** 3 - a ** 3)) * ((1 - 2 * nu) * a + (1 + nu) * b ** 3 / (2 * a * a))
+    errors = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for cell, bound in ((0.005, 0.15), (0.0035, 0.07)):
+            s = json.loads(json.dumps(scene))
+            s["geometry"]["cell_size"] = cell
+            path = os.path.join(tmp, f"lame_{cell}.json")
+            with open(path, "w") as f:
+                json.dump(s, f)
+            r = run("lame_sphere", path=path)
+            if not r:
+                continue
+            pr = r["probes"]
+            ur = (pr["xp"]["displacement"][0] - pr["xm"]["displacement"][0]) / 2
+            e = abs(ur - exact) / exact
+            errors.append(e)
+            check(e <= bound, f"lame_sphere at {1e3 * cell:g} mm: u_r(a) {ur:.4e} m vs {exact:.4e} m, error {100 * e:.1f} % <= {100 * bound:g} %")
+            check(r["solver"]["rolled_back_steps"] == 0 and not r["warnings"], "lame_sphere: no warnings")
+    if len(errors) == 2:
+        check(errors[1] < errors[0], "lame_sphere: the error falls with the cell size")
 else:
     sys.exit(f"unknown group {GROUP}")
 

@@ -165,3 +165,49 @@ TEST(Scene, EveryShippedSceneParses) {
     }
     EXPECT_GT(count, 0);
 }
+
+// Issue 17: pressure loads, the hollow sphere, boxes given by corners, single-node supports and
+// the mean-dilatation element; each with the error that points at its field.
+TEST(Scene, PressureCornersHollowSphereNodeSupportsAndVolumetricParse) {
+    const Scene s = parse_scene(with(R"("loads": {"gravity": [0, 0, -9.81]})",
+        R"("loads": {"pressure": [{"box": {"min": [0, 0, 0], "max": [1, 1, 1]}, "pressure": 250}]},
+           "basis": {"volumetric": "mean_dilatation"})"));
+    ASSERT_EQ(s.loads.pressures.size(), 1u);
+    EXPECT_DOUBLE_EQ(s.loads.pressures[0].pressure, 250);
+    EXPECT_EQ(s.basis.volumetric, "mean_dilatation");
+    EXPECT_EQ(parse_scene(kMinimal).basis.volumetric, "full");
+    EXPECT_EQ(error_pointer(with(R"("loads": {"gravity": [0, 0, -9.81]})",
+                  R"("loads": {"pressure": [{"pressure": 1}]})")),
+        "/loads/pressure/0");
+    EXPECT_EQ(error_pointer(with(R"("loads": {)", R"("basis": {"volumetric": "bbar"}, "loads": {)")),
+        "/basis/volumetric");
+
+    const Scene c = parse_scene(with(R"("size": [0.1, 0.1, 0.1])",
+        R"("corners": [[0,0,0],[48,44,0],[48,60,0],[0,44,0],[0,0,1],[48,44,1],[48,60,1],[0,44,1]])"));
+    ASSERT_EQ(c.geometry.corners.size(), 8u);
+    EXPECT_EQ(c.geometry.corners[2], Vec3(48, 60, 0));
+    EXPECT_EQ(error_pointer(with(R"("size": [0.1, 0.1, 0.1])",
+                  R"("size": [0.1, 0.1, 0.1], "corners": [[0,0,0]])")),
+        "/geometry/corners");
+
+    const std::string hollow = R"("geometry": {"type": "implicit", "shape": "hollow_sphere",
+        "radius": 0.04, "inner_radius": 0.02, "cell_size": 0.005})";
+    const Scene h = parse_scene(with(
+        R"("geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]})", hollow));
+    EXPECT_EQ(h.geometry.shape, "hollow_sphere");
+    EXPECT_DOUBLE_EQ(h.geometry.inner_radius, 0.02);
+    EXPECT_EQ(error_pointer(with(R"("geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]})",
+                  R"("geometry": {"type": "implicit", "shape": "hollow_sphere", "radius": 0.04,
+                      "inner_radius": 0.05, "cell_size": 0.005})")),
+        "/geometry/inner_radius");
+
+    const Scene n = parse_scene(with(R"({"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}})",
+        R"({"node": [0.1, 0, 0], "components": "yz"})"));
+    ASSERT_EQ(n.fixed.size(), 1u);
+    EXPECT_TRUE(n.fixed[0].at_node);
+    EXPECT_EQ(n.fixed[0].node, Vec3(0.1, 0, 0));
+    EXPECT_FALSE(n.fixed[0].components[0]);
+    EXPECT_EQ(error_pointer(with(R"({"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}})",
+                  R"({"node": [0, 0, 0], "box": {"min": [0, 0, 0], "max": [1, 1, 1]}})")),
+        "/fixed/0/node");
+}

@@ -100,7 +100,7 @@ void ElasticModel::compute_cell(Index c) {
     const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
     cd.nodes = cell.nodes;
     cd.integration = basis::integrate_cell(*m_mesh, c, m_options);
-    cd.stiffness = element_stiffness(cd.integration, m_material);
+    cd.stiffness = element_stiffness(cd.integration, m_material, m_options.volumetric);
     const std::vector<Vec3> X = [&] {
         std::vector<Vec3> p;
         for (Index i : cell.nodes)
@@ -413,6 +413,31 @@ double ElasticModel::max_cell_stretch(const MatX3& x) const {
             = std::isnan(ratio) ? std::numeric_limits<double>::infinity() : std::max(worst2, ratio);
     }
     return std::sqrt(worst2);
+}
+
+void ElasticModel::cell_stretch_squared(const MatX3& x, std::vector<double>& out) const {
+    const auto cells = std::ptrdiff_t(m_cells.size());
+    out.resize(m_cells.size());
+#pragma omp parallel for num_threads(m_threads) schedule(static) if (m_threads > 1)
+    for (std::ptrdiff_t c = 0; c < cells; ++c) {
+        const std::size_t begin = m_node_offset[std::size_t(c)];
+        const std::size_t end = m_node_offset[std::size_t(c) + 1];
+        const double rest2 = m_rest_extent2[std::size_t(c)];
+        double ratio = 1.0;
+        if (end - begin >= 2 && rest2 > 0) {
+            const double* xa = x.data() + 3 * m_node_list[begin];
+            double now = 0;
+            for (std::size_t k = begin + 1; k < end; ++k) {
+                const double* xb = x.data() + 3 * m_node_list[k];
+                const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
+                now = std::max(now, dx * dx + dy * dy + dz * dz);
+            }
+            ratio = now / rest2;
+            if (std::isnan(ratio))
+                ratio = std::numeric_limits<double>::infinity();
+        }
+        out[std::size_t(c)] = ratio;
+    }
 }
 
 double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {

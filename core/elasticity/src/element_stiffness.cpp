@@ -1,6 +1,7 @@
 #include "polycut/elasticity/element_stiffness.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -30,9 +31,19 @@ namespace {
 // product speed instead of n^2 q 3x3 block updates (10x faster at 100+ nodes).
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
-MatX stiffness_by_rank_update(const basis::CellIntegration& ci, const Material& material) {
+/// L^T with C = L L^T: Cholesky for a positive definite C; for the deviatoric part, which has
+/// m in its kernel, diag(sqrt(eigenvalues)) V^T.
+Mat6 root_transpose(const Mat6& C, bool semi_definite) {
+    if (!semi_definite)
+        return Eigen::LLT<Mat6>(C).matrixL().transpose();
+    const Eigen::SelfAdjointEigenSolver<Mat6> eig(C);
+    return eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal()
+        * eig.eigenvectors().transpose();
+}
+
+MatX stiffness_by_rank_update(const basis::CellIntegration& ci, const Mat6& C, bool semi_definite) {
     const Index n = Index(ci.gradients[0].rows());
-    const Mat6 Lt = Eigen::LLT<Mat6>(elasticity_matrix(material)).matrixL().transpose();
+    const Mat6 Lt = root_transpose(C, semi_definite);
     MatX S(6 * Index(ci.gradients.size()), 3 * n);
     for (std::size_t q = 0; q < ci.gradients.size(); ++q)
         S.middleRows<6>(6 * Index(q)).noalias()
@@ -41,15 +52,8 @@ MatX stiffness_by_rank_update(const basis::CellIntegration& ci, const Material& 
     K.selfadjointView<Eigen::Lower>().rankUpdate(S.transpose());
     return K.selfadjointView<Eigen::Lower>();
 }
-} // namespace
-
-MatX element_stiffness(const basis::CellIntegration& ci, const Material& material) {
-    const double mu = material.mu(), lambda = material.lambda();
-    const Index n = ci.gradients.empty() ? 0 : Index(ci.gradients[0].rows());
-    const bool positive_weights
-        = std::all_of(ci.weights.begin(), ci.weights.end(), [](double w) { return w >= 0; });
-    if (n > 8 && positive_weights)
-        return stiffness_by_rank_update(ci, material);
+/// sum_q w_q B_q^T C B_q block by block, C with Lame parameters (lambda, mu).
+MatX pointwise_stiffness(const basis::CellIntegration& ci, double lambda, double mu, Index n) {
     MatX K = MatX::Zero(3 * n, 3 * n);
     for (std::size_t q = 0; q < ci.gradients.size(); ++q) {
         const MatX3& g = ci.gradients[q];
@@ -66,6 +70,41 @@ MatX element_stiffness(const basis::CellIntegration& ci, const Material& materia
     }
     // Exact symmetry (the blocks are symmetric up to round-off).
     return 0.5 * (K + K.transpose());
+}
+} // namespace
+
+MatX element_stiffness(
+    const basis::CellIntegration& ci, const Material& material, basis::VolumetricRule rule) {
+    const bool mean_dilatation = rule == basis::VolumetricRule::MeanDilatation;
+    const double mu = material.mu();
+    const double kappa = material.lambda() + 2.0 * mu / 3.0; // bulk modulus [Pa]
+    // Mean dilatation: the pointwise part with the deviatoric C_dev = lambda' m m^T + mu D,
+    // lambda' = lambda - kappa = -2 mu / 3 (C_dev m = 0), plus the cell-mean volumetric term.
+    const double lambda = mean_dilatation ? -2.0 * mu / 3.0 : material.lambda();
+    const Index n = ci.gradients.empty() ? 0 : Index(ci.gradients[0].rows());
+    const bool positive_weights
+        = std::all_of(ci.weights.begin(), ci.weights.end(), [](double w) { return w >= 0; });
+    MatX K;
+    if (n > 8 && positive_weights) {
+        Mat6 C = elasticity_matrix(material);
+        if (mean_dilatation)
+            C.topLeftCorner<3, 3>().array() -= kappa;
+        K = stiffness_by_rank_update(ci, C, mean_dilatation);
+    } else
+        K = pointwise_stiffness(ci, lambda, mu, n);
+    if (mean_dilatation && n > 0) {
+        // kappa V bbar bbar^T with bbar = (1/V) sum_q w_q [g_q,i] (the divergence row)
+        double V = 0;
+        VecX bbar = VecX::Zero(3 * n);
+        for (std::size_t q = 0; q < ci.gradients.size(); ++q) {
+            V += ci.weights[q];
+            for (Index i = 0; i < n; ++i)
+                bbar.segment<3>(3 * i) += ci.weights[q] * ci.gradients[q].row(i).transpose();
+        }
+        if (V > 0)
+            K.noalias() += (kappa / V) * bbar * bbar.transpose();
+    }
+    return K;
 }
 
 } // namespace polycut::elasticity

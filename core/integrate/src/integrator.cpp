@@ -258,9 +258,8 @@ void advance(const std::vector<Index>& dof_map, const VecX& v_r, double h, State
 }
 } // namespace
 
-bool Integrator::step_implicit(State& s, StepReport& report) {
+bool Integrator::step_implicit(State& s, StepReport& report, double h) {
     // (M + h D + h^2 K_R) dv = h (f_ext + f_int(x) - (D + h K_R) v), D = alpha M + beta K_R.
-    const double h = m_options.dt;
     const double alpha = m_model->material().rayleigh_mass;
     const double beta = m_model->material().rayleigh_stiffness;
     external_reduced();
@@ -473,7 +472,8 @@ StepReport Integrator::step(State& s) {
                 ok = step_static(s, report);
                 break;
             case IntegratorKind::ImplicitEuler:
-                ok = step_implicit(s, report);
+                ok = m_options.energy_guard ? step_implicit_guarded(s, report, m_options.dt, 0)
+                                            : step_implicit(s, report, m_options.dt);
                 break;
             case IntegratorKind::SemiImplicitEuler:
                 ok = step_semi_implicit(s, report);
@@ -496,13 +496,34 @@ StepReport Integrator::step(State& s) {
             }
         }
         if (ok) {
-            const double stretch = max_cell_stretch(s.x);
-            if (!(stretch <= m_options.stretch_limit)) {
-                ok = false;
-                report.warnings.push_back("exploded: a cell stretched " + std::to_string(stretch)
-                    + " times its rest size (limit " + std::to_string(m_options.stretch_limit)
-                    + ")");
+            // Exploded: a cell stretched past the limit that also grew more than stretch_growth
+            // times in this step (per cell). Slow, large stretch is the model's answer.
+            if (m_stretch_cells != m_model->cell_version()
+                || m_stretch2.size() != std::size_t(m_model->mesh().num_cells())) {
+                m_model->cell_stretch_squared(m_backup.x, m_stretch2);
+                m_stretch_cells = m_model->cell_version();
             }
+            m_model->cell_stretch_squared(s.x, m_stretch2_new);
+            const double limit2 = m_options.stretch_limit * m_options.stretch_limit;
+            const double growth2 = m_options.stretch_growth * m_options.stretch_growth;
+            double worst2 = 0, before2 = 1;
+            for (std::size_t c = 0; c < m_stretch2_new.size(); ++c) {
+                const double now2 = m_stretch2_new[c]; // +inf for non-finite positions
+                const bool exploded = !(now2 <= limit2) && !(now2 <= growth2 * m_stretch2[c]);
+                if (exploded && !(now2 <= worst2)) {
+                    worst2 = now2;
+                    before2 = m_stretch2[c];
+                }
+            }
+            if (worst2 > 0) {
+                ok = false;
+                report.warnings.push_back("exploded: a cell stretched "
+                    + std::to_string(std::sqrt(worst2)) + " times its rest size (limit "
+                    + std::to_string(m_options.stretch_limit) + "), "
+                    + std::to_string(std::sqrt(worst2 / before2))
+                    + " times its stretch before the step");
+            } else
+                std::swap(m_stretch2, m_stretch2_new);
         }
         if (ok) {
             if (m_options.kind != IntegratorKind::Static)

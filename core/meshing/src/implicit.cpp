@@ -29,9 +29,17 @@ mesh::Mesh mesh_implicit(
     // relative_error_bound x the bounding sphere's diameter (1e-6: ~0.1 um for a 10 cm organ).
     const std::function<double(const Point&)> value
         = [shape](const Point& p) { return implicit_value(shape, Vec3(p.x(), p.y(), p.z())); };
-    // The bounding sphere must strictly contain the shape; 20 % margin.
-    const double R = 1.2 * bounding_radius(shape);
-    const Point c(shape.center.x(), shape.center.y(), shape.center.z());
+    // The bounding sphere must strictly contain the shape; 20 % margin. Mesh_3 finds its first
+    // surface points on segments from the sphere's centre outward, so the centre must lie inside
+    // the shape: for a hollow sphere, in the middle of the wall.
+    Vec3 centre = shape.center;
+    double R = 1.2 * bounding_radius(shape);
+    if (shape.kind == ImplicitShape::Kind::HollowSphere) {
+        const double mid = 0.5 * (shape.inner + shape.radii.x());
+        centre += Vec3(mid, 0, 0);
+        R += 1.2 * mid;
+    }
+    const Point c(centre.x(), centre.y(), centre.z());
     CGAL::Random rng(options.seed);
     namespace p = CGAL::parameters;
     const Domain domain = Domain::create_implicit_mesh_domain(

@@ -54,6 +54,15 @@ ImplicitShape ImplicitShape::sphere(double r, const Vec3& center) {
     return s;
 }
 
+ImplicitShape ImplicitShape::hollow_sphere(double a, double b, const Vec3& center) {
+    ImplicitShape s;
+    s.kind = Kind::HollowSphere;
+    s.center = center;
+    s.radii = Vec3::Constant(b);
+    s.inner = a;
+    return s;
+}
+
 ImplicitShape ImplicitShape::ellipsoid(const Vec3& a, const Vec3& center) {
     ImplicitShape s;
     s.kind = Kind::Ellipsoid;
@@ -91,6 +100,9 @@ void check_shape(const ImplicitShape& shape) {
         if (!shape.axis.allFinite() || shape.axis.norm() == 0)
             throw InputError("shape.axis", "capsule axis must be finite and non-zero");
     }
+    if (shape.kind == ImplicitShape::Kind::HollowSphere
+        && !(std::isfinite(shape.inner) && shape.inner > 0 && shape.inner < shape.radii.x()))
+        throw InputError("shape.inner", "cavity radius must be in (0, radius)");
     if (shape.kind == ImplicitShape::Kind::Blob && !(shape.blend > 0 && shape.blend < 1))
         throw InputError("shape.blend", "blob blend must be in (0, 1)");
 }
@@ -100,6 +112,10 @@ double implicit_value(const ImplicitShape& shape, const Vec3& p) {
     switch (shape.kind) {
     case ImplicitShape::Kind::Sphere:
         return q.norm() - shape.radii.x();
+    case ImplicitShape::Kind::HollowSphere: {
+        const double r = q.norm();
+        return std::max(r - shape.radii.x(), shape.inner - r);
+    }
     case ImplicitShape::Kind::Ellipsoid:
         return ellipsoid_value(q, shape.radii);
     case ImplicitShape::Kind::Capsule: {
@@ -127,6 +143,7 @@ double implicit_value(const ImplicitShape& shape, const Vec3& p) {
 double bounding_radius(const ImplicitShape& shape) {
     switch (shape.kind) {
     case ImplicitShape::Kind::Sphere:
+    case ImplicitShape::Kind::HollowSphere:
         return shape.radii.x();
     case ImplicitShape::Kind::Ellipsoid:
         return shape.radii.maxCoeff();
@@ -184,6 +201,8 @@ double implicit_volume(const ImplicitShape& shape) {
     switch (shape.kind) {
     case ImplicitShape::Kind::Sphere:
         return 4.0 / 3.0 * pi * std::pow(shape.radii.x(), 3);
+    case ImplicitShape::Kind::HollowSphere:
+        return 4.0 / 3.0 * pi * (std::pow(shape.radii.x(), 3) - std::pow(shape.inner, 3));
     case ImplicitShape::Kind::Ellipsoid:
         return 4.0 / 3.0 * pi * shape.radii.prod();
     case ImplicitShape::Kind::Capsule: {

@@ -96,8 +96,23 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         { "box", "implicit", "surface_file", "mesh_file", "random_planes", "convex_hull" });
     if (type == "box" || type == "random_planes") {
         g.kind = type == "box" ? Geometry::Kind::Box : Geometry::Kind::RandomPlanes;
-        g.origin = r.vec3("origin", g.origin, false, "m");
-        g.size = r.vec3("size", g.size, true, "m");
+        if (type == "box" && r.has("corners")) {
+            // A hexahedron given by its corners instead of origin and size.
+            if (r.has("origin") || r.has("size"))
+                r.fail("corners", "replaces \"origin\" and \"size\"; give one or the other");
+            const json& c = r.get("corners");
+            if (!c.is_array() || c.size() != 8)
+                r.fail("corners", "must be an array of 8 points [x, y, z] [m] in VTK hex order");
+            for (std::size_t i = 0; i < 8; ++i) {
+                const std::string at = r.child("corners") + "/" + std::to_string(i);
+                g.corners.push_back(ObjectReader::parse_vec3(c[i], at, "m"));
+                if (!(g.corners.back().cwiseAbs().maxCoeff() <= kMaxLength))
+                    throw SceneError(at, "coordinates must be within [-1000, 1000] [m]");
+            }
+        } else {
+            g.origin = r.vec3("origin", g.origin, false, "m");
+            g.size = r.vec3("size", g.size, true, "m");
+        }
         for (int i = 0; i < 3; ++i)
             if (!(g.size[i] > 0) || g.size[i] > kMaxLength)
                 throw SceneError(
@@ -121,11 +136,17 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         g.seed = unsigned(r.integer("seed", 1, 0, std::numeric_limits<int>::max()));
     } else if (type == "implicit") {
         g.kind = Geometry::Kind::Implicit;
-        g.shape = r.choice("shape", "", { "sphere", "ellipsoid", "capsule", "blob" });
+        g.shape = r.choice(
+            "shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
         g.center = r.vec3("center", g.center, false, "m");
-        if (g.shape == "sphere" || g.shape == "capsule") {
+        if (g.shape == "sphere" || g.shape == "capsule" || g.shape == "hollow_sphere") {
             const double radius = r.number_required("radius", 0, kMaxLength, true, "m");
             g.radii = Vec3::Constant(radius);
+            if (g.shape == "hollow_sphere") {
+                g.inner_radius = r.number_required("inner_radius", 0, kMaxLength, true, "m");
+                if (!(g.inner_radius < radius))
+                    r.fail("inner_radius", "must be smaller than \"radius\"");
+            }
         } else {
             g.radii = r.vec3("radii", g.radii, g.shape == "ellipsoid", "m");
             for (int i = 0; i < 3; ++i)
@@ -178,6 +199,7 @@ Basis parse_basis(const json& j, const std::string& ptr) {
     b.rule = r.choice("rule", b.rule, { "heuristic", "reference", "monte_carlo" });
     b.gauss_degree = int(r.integer("gauss_degree", b.gauss_degree, 1, 8));
     b.harmonic_xi = r.number("harmonic_xi", b.harmonic_xi, 0, 10, true);
+    b.volumetric = r.choice("volumetric", b.volumetric, { "full", "mean_dilatation" });
     r.finish();
     return b;
 }
@@ -193,6 +215,7 @@ Integrator parse_integrator(const json& j, const std::string& ptr) {
     it.max_iterations = int(r.integer("max_iterations", it.max_iterations, 1, 100000));
     it.threads = int(r.integer("threads", it.threads, 1, 256));
     it.stiffness_every = int(r.integer("stiffness_every", it.stiffness_every, 1, 1000));
+    it.energy_guard = r.boolean("energy_guard", it.energy_guard);
     r.finish();
     return it;
 }
@@ -362,7 +385,13 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
     for_each_item(r, "fixed", [&](const json& item, const std::string& p) {
         ObjectReader f(item, p);
         Fixed fx;
-        fx.where = parse_selector(f, "box", "plane");
+        if (f.has("node")) {
+            if (f.has("box") || f.has("plane"))
+                f.fail("node", "selects one node; give \"node\", \"box\" or \"plane\", not two");
+            fx.at_node = true;
+            fx.node = f.vec3("node", fx.node, true, "m");
+        } else
+            fx.where = parse_selector(f, "box", "plane");
         fx.components = parse_components(f);
         f.finish();
         s.fixed.push_back(fx);
@@ -413,6 +442,14 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
             }
             f.finish();
             s.loads.forces.push_back(force);
+        });
+        for_each_item(l, "pressure", [&](const json& item, const std::string& p) {
+            ObjectReader f(item, p);
+            Pressure pr;
+            pr.pressure = f.number_required("pressure", -1e9, 1e9, false, "Pa");
+            pr.region = parse_selector(f, "box", "plane");
+            f.finish();
+            s.loads.pressures.push_back(pr);
         });
         l.finish();
     }

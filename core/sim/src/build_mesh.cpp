@@ -103,6 +103,8 @@ mesh::Mesh implicit_mesh(const scene::Geometry& g, MeshingSummary& summary) {
     meshing::ImplicitShape shape;
     if (g.shape == "sphere")
         shape = meshing::ImplicitShape::sphere(g.radii.x(), g.center);
+    else if (g.shape == "hollow_sphere")
+        shape = meshing::ImplicitShape::hollow_sphere(g.inner_radius, g.radii.x(), g.center);
     else if (g.shape == "ellipsoid")
         shape = meshing::ImplicitShape::ellipsoid(g.radii, g.center);
     else if (g.shape == "capsule")
@@ -184,6 +186,17 @@ mesh::Mesh convex_hull_mesh(const scene::Geometry& g) {
         scale_mesh(m, g.scale);
     return m;
 }
+/// Maps a grid on the unit cube onto the hexahedron with these corners (VTK order), trilinearly.
+void map_to_corners(mesh::Mesh& m, const std::vector<Vec3>& c) {
+    for (Vec3& X : m.rest) {
+        const double u = X.x(), v = X.y(), w = X.z();
+        const Vec3 bottom = (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2]
+            + (1 - u) * v * c[3];
+        const Vec3 top = (1 - u) * (1 - v) * c[4] + u * (1 - v) * c[5] + u * v * c[6]
+            + (1 - u) * v * c[7];
+        X = (1 - w) * bottom + w * top;
+    }
+}
 } // namespace
 
 mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
@@ -194,8 +207,8 @@ mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
     case scene::Geometry::Kind::Box:
     case scene::Geometry::Kind::RandomPlanes: {
         mesh::BoxGrid grid;
-        grid.lo = g.origin;
-        grid.hi = g.origin + g.size;
+        grid.lo = g.corners.empty() ? g.origin : Vec3::Zero();
+        grid.hi = g.corners.empty() ? Vec3(g.origin + g.size) : Vec3::Ones();
         grid.cells = g.cells;
         if (g.kind == scene::Geometry::Kind::RandomPlanes) {
             // 000 Fig. 2: each hex block split by random planes into convex polyhedra; one plane
@@ -209,6 +222,8 @@ mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
         else
             m = mesh::tet_grid(
                 grid, g.tet_split == "five" ? mesh::TetSplit::Five : mesh::TetSplit::Kuhn6);
+        if (!g.corners.empty())
+            map_to_corners(m, g.corners);
         break;
     }
     case scene::Geometry::Kind::Implicit:

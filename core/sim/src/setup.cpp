@@ -2,7 +2,9 @@
 
 #include "polycut/common/error.hpp"
 #include "polycut/geometry/polygon.hpp"
+#include "polycut/integrate/stability.hpp"
 
+#include <cstdio>
 #include <limits>
 
 namespace polycut::sim {
@@ -27,6 +29,8 @@ basis::BasisOptions basis_options(const scene::Scene& s) {
         b.rule = basis::PolyRule::Reference; // the heuristic rule is specific to mean value cells
     b.gauss_degree = s.basis.gauss_degree;
     b.harmonic_xi = s.basis.harmonic_xi;
+    b.volumetric = s.basis.volumetric == "mean_dilatation" ? basis::VolumetricRule::MeanDilatation
+                                                           : basis::VolumetricRule::Full;
     return b;
 }
 
@@ -53,8 +57,10 @@ std::vector<std::uint8_t> fixed_dofs_from_scene(const scene::Scene& s, const mes
     std::vector<std::uint8_t> mask(3 * m.rest.size(), 0);
     for (std::size_t f = 0; f < s.fixed.size(); ++f) {
         long count = 0;
+        const Index nearest = s.fixed[f].at_node ? nearest_node(m, s.fixed[f].node) : kNone;
         for (std::size_t i = 0; i < m.rest.size(); ++i) {
-            if (!scene::selects(s.fixed[f].where, m.rest[i]))
+            if (s.fixed[f].at_node ? Index(i) != nearest
+                                   : !scene::selects(s.fixed[f].where, m.rest[i]))
                 continue;
             ++count;
             for (int k = 0; k < 3; ++k)
@@ -114,12 +120,54 @@ VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m) {
             if (weight[n] > 0)
                 f.segment<3>(3 * Index(n)) += force.force * (weight[n] / total);
     }
+    for (std::size_t i = 0; i < s.loads.pressures.size(); ++i) {
+        // Traction -p n on each boundary face whose nodes the region selects, n its outward
+        // normal (boundary loops are outward for their cell): area A, force -p A n, split
+        // equally over the face's nodes (exact for P1 triangles, consistent for planar
+        // parallelograms).
+        const scene::Pressure& pr = s.loads.pressures[i];
+        long faces = 0;
+        for (const auto& face : m.faces) {
+            if (!face.boundary())
+                continue;
+            bool inside = true;
+            for (Index n : face.nodes)
+                inside = inside && scene::selects(pr.region, m.rest[std::size_t(n)]);
+            if (!inside)
+                continue;
+            ++faces;
+            // Newell's vector: twice the area times the unit normal
+            const Vec3 area_normal
+                = 0.5 * geometry::newell_vector(geometry::gather(m.rest, face.nodes));
+            const Vec3 share = -pr.pressure * area_normal / double(face.nodes.size());
+            for (Index n : face.nodes)
+                f.segment<3>(3 * n) += share;
+        }
+        if (faces == 0)
+            throw SceneError(
+                "/loads/pressure/" + std::to_string(i), "selects no boundary face of the mesh");
+    }
     return f;
 }
 
 } // namespace polycut::sim
 
 namespace polycut::sim {
+
+void check_time_step(const scene::Scene& s, const elasticity::ElasticModel& model) {
+    if (s.integrator.type != "semi_implicit_euler")
+        return;
+    const integrate::StabilityLimit limit = integrate::semi_implicit_limit(model);
+    if (s.integrator.dt <= limit.critical_dt)
+        return;
+    char text[320];
+    std::snprintf(text, sizeof text,
+        "semi_implicit_euler is unstable at dt = %.3g s on this mesh and material: its limit is "
+        "%.3g s (highest element frequency %.3g rad/s, with the scene's Rayleigh damping); use "
+        "dt <= %.3g s or \"implicit_euler\"",
+        s.integrator.dt, limit.critical_dt, limit.omega_max, limit.critical_dt);
+    throw SceneError("/integrator/dt", text);
+}
 
 integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     integrate::IntegratorOptions o;
@@ -153,6 +201,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.amg.rigid_body_modes = sv.amg_rigid_body_modes;
     o.threads = it.threads;
     o.stiffness_every = it.stiffness_every;
+    o.energy_guard = it.energy_guard;
     return o;
 }
 

@@ -24,6 +24,10 @@ std::vector<std::uint8_t> fixed_dofs_from_scene(const scene::Scene& s, const mes
 /// Throws SceneError ("/loads/forces/i") for a region that selects no node.
 VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m);
 
+/// Throws SceneError ("/integrator/dt") when the scene's integrator is semi-implicit Euler and
+/// dt exceeds its stability limit on this model (integrate::semi_implicit_limit), naming it.
+void check_time_step(const scene::Scene& s, const elasticity::ElasticModel& model);
+
 /// Node nearest to a rest-space point among nodes used by cells.
 Index nearest_node(const mesh::Mesh& m, const Vec3& X);
 

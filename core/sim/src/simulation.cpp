@@ -51,6 +51,7 @@ void Simulation::Impl::build() {
     model = std::make_unique<elasticity::ElasticModel>(
         mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
     integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
+    check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
     cutting.reset();
     cut_cells_left = scene.cutting.max_cells_per_tick;
     state = integrator->rest_state();

@@ -14,6 +14,15 @@ enum class PolyBasis { MeanValue, Harmonic };
 /// rule (centroid tetrahedralization + Gauss, 001), or Monte Carlo (001).
 enum class PolyRule { Heuristic, Reference, MonteCarlo };
 
+/// How a cell integrates the volumetric (dilatational) part of its strain energy.
+enum class VolumetricRule {
+    Full, ///< with the cell's quadrature, like the rest: Q1 and polyhedra lock as nu -> 0.5
+    /// B-bar mean dilatation (Hughes 1980): the cell's average volumetric strain replaces the
+    /// pointwise one, one pressure per cell; no volumetric locking for Q1 hexes and polyhedra.
+    /// P1 tets are unchanged (their strain is constant already).
+    MeanDilatation,
+};
+
 /// Options of the per-cell bases.
 struct BasisOptions {
     PolyBasis poly = PolyBasis::MeanValue; ///< basis of general polyhedra
@@ -22,6 +31,7 @@ struct BasisOptions {
     /// MFS source offset of the harmonic basis (001 eq. 12), relative to the cell size; at most
     /// HarmonicOptions::nonconvex_offset for non-convex cells.
     double harmonic_xi = 0.15;
+    VolumetricRule volumetric = VolumetricRule::Full; ///< elasticity::element_stiffness
 };
 
 /// Integration data of cell `cell` of `mesh` in rest space: P1 for tets (exact, 1 point), Q1 for

@@ -76,6 +76,9 @@ public:
     /// its first node to its other nodes, deformed over the same at rest (1 under rigid motion);
     /// 1 when no cell is stretched. Rest extents are cached with the cell data; uses threads().
     double max_cell_stretch(const MatX3& x) const;
+    /// The same per cell, squared: out[c] = (stretch of cell c)^2 at x (#cells; 1 for cells
+    /// without extent, +inf for non-finite positions). Resized; uses threads().
+    void cell_stretch_squared(const MatX3& x, std::vector<double>& out) const;
 
     /// Gathers the free entries of a full DOF vector (3#N) into a reduced one (#free).
     void reduce(const VecX& full, VecX& reduced) const;

@@ -34,8 +34,8 @@ public:
     double energy(const State& state) const;
     /// Largest stretch of any cell in positions `x` (#N x 3) [m]: max over cells of the largest
     /// distance from the cell's first node to another node, deformed over the same at rest (1
-    /// at rest and under rigid motion). A step that leaves it above options.stretch_limit is rolled
-    /// back.
+    /// at rest and under rigid motion). A step that leaves a cell above options.stretch_limit and
+    /// more than options.stretch_growth times its own stretch before the step is rolled back.
     double max_cell_stretch(const MatX3& x) const;
 
     /// PcgLagged: the lagged factor's life after a sparsity pattern change (a cut). The first
@@ -58,7 +58,11 @@ public:
 
 private:
     void ensure_topology(StepReport& report);
-    bool step_implicit(State& s, StepReport& report);
+    bool step_implicit(State& s, StepReport& report, double h);
+    /// step_implicit with options().energy_guard: halves h while a step gains energy.
+    bool step_implicit_guarded(State& s, StepReport& report, double h, int depth);
+    /// Kinetic + elastic + gravity potential (relative to rest) [J].
+    double total_energy(const State& s) const;
     bool step_semi_implicit(State& s, StepReport& report);
     bool step_static(State& s, StepReport& report);
     /// Reduced f_ext + gravity (#free), into m_fext_r.
@@ -105,6 +109,11 @@ private:
     VecX
         m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
     State m_backup;
+    std::vector<State> m_guard_start; ///< energy_guard: the state before each halving level
+    /// Squared stretch per cell of the current state, valid for model cell_version()
+    /// m_stretch_cells (the explosion test compares each cell with itself before the step).
+    std::vector<double> m_stretch2, m_stretch2_new;
+    std::uint64_t m_stretch_cells = ~std::uint64_t(0);
 };
 
 } // namespace polycut::integrate

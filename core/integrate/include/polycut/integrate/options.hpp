@@ -77,6 +77,12 @@ struct IntegratorOptions {
     /// as an explosion and rolled back. Tissue tears long before 10x; an unstable step (a bad cell
     /// after a cut, a stiff explicit spring) reaches it within a few ticks (dimensionless).
     double stretch_limit = 10.0;
+    /// ...and whose stretch grew by more than this factor in the step (per cell: the cell's
+    /// stretch after the step over its stretch before it). A cell with a zero-energy mode after
+    /// a cut, or a numerically unstable step, goes past the limit in one or two steps; soft
+    /// tissue that sags far under gravity stretches past it a few percent per step, which is
+    /// the model's answer, not an explosion (issue 17 item 4, docs/decisions/0013).
+    double stretch_growth = 2.0;
     /// ImplicitEuler with PCG: start from the linear extrapolation 2 dv_{n-1} - dv_{n-2} of the
     /// last two velocity increments instead of dv_{n-1} (fewer iterations on smooth motion).
     bool extrapolate_warm_start = false;
@@ -86,6 +92,17 @@ struct IntegratorOptions {
     /// step (the design's "linearized once per step"). Pays at haptic rates, where a step moves
     /// the rotations by very little (docs/perf.md "Organ scale").
     int stiffness_every = 1;
+    /// ImplicitEuler: a step after which the total energy (kinetic + elastic + gravity potential)
+    /// exceeds its value before by more than the work of the external forces is redone as two
+    /// half steps, recursively, up to 2^max_energy_halvings substeps; a gain that survives them
+    /// is taken out of the kinetic energy (velocities scaled down) and reported. Backward Euler
+    /// is dissipative, but linearized once per step with the corotated stiffness (dR/dx
+    /// dropped) it can gain energy when cells rotate far within a step (soft, near-incompressible
+    /// tissue at large dt), and the affine-fit rotation of hexes and polyhedra makes their force
+    /// slightly non-conservative (issue 17 item 4, docs/decisions/0013). Costs two energy
+    /// evaluations per step.
+    bool energy_guard = false;
+    int max_energy_halvings = 3;
     /// Threads for assembly and the solver's matrix passes (1 = serial). A step's result is
     /// deterministic for a given count; counts differ by the order of sums (round-off).
     int threads = 1;
@@ -110,6 +127,8 @@ struct StepReport {
     solve::SolveStatus status = solve::SolveStatus::Ok;
     std::vector<std::string> warnings;
     bool rolled_back = false; ///< the state was restored to its value before the step
+    /// energy_guard: substeps the step was split into (1 when it was not)
+    int substeps = 1;
 };
 
 } // namespace polycut::integrate

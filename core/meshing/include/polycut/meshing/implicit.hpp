@@ -1,4 +1,4 @@
-// Implicit shapes (sphere, ellipsoid, capsule, organ-like blob) and their tetrahedral meshes by
+// Implicit shapes (sphere, hollow sphere, ellipsoid, capsule, organ-like blob) and their tetrahedral meshes by
 // CGAL Mesh_3 on a labeled implicit domain.
 #pragma once
 
@@ -12,6 +12,7 @@ namespace polycut::meshing {
 struct ImplicitShape {
     enum class Kind {
         Sphere, ///< radius radii.x()
+        HollowSphere, ///< between radii `inner` and radii.x() (Lame's thick-walled sphere)
         Ellipsoid, ///< semi-axes radii along x, y, z
         Capsule, ///< cylinder of radius radii.x() and length `length` along `axis`, capped by
                  ///< hemispheres (total extent length + 2 radii.x())
@@ -23,11 +24,14 @@ struct ImplicitShape {
     Vec3 radii = Vec3::Constant(0.05); ///< semi-axes or scale [m], all > 0
     double length = 0.1; ///< capsule cylinder length [m], >= 0
     Vec3 axis = Vec3::UnitZ(); ///< capsule axis (normalised internally)
+    double inner = 0; ///< hollow sphere: cavity radius [m], in (0, radii.x())
     /// Blob blend radius in reference units: a larger value rounds the creases between lobes.
     double blend = 0.25;
 
     /// A sphere of radius r [m].
     static ImplicitShape sphere(double r, const Vec3& center = Vec3::Zero());
+    /// A thick-walled sphere between radii a < b [m].
+    static ImplicitShape hollow_sphere(double a, double b, const Vec3& center = Vec3::Zero());
     /// An ellipsoid with semi-axes a [m].
     static ImplicitShape ellipsoid(const Vec3& a, const Vec3& center = Vec3::Zero());
     /// A capsule of radius r [m] and cylinder length l [m] along axis.
@@ -59,7 +63,7 @@ struct VolumeEstimate {
 /// finest cells the surface may cross.
 VolumeEstimate estimate_implicit_volume(const ImplicitShape& shape, int depth = 8);
 
-/// Exact volume [m^3] for Sphere, Ellipsoid and Capsule; for Blob, estimate_implicit_volume().
+/// Exact volume [m^3] for Sphere, HollowSphere, Ellipsoid and Capsule; for Blob, estimate_implicit_volume().
 double implicit_volume(const ImplicitShape& shape);
 
 /// Throws InputError if the shape has non-positive or non-finite radii, a negative length or a

@@ -18,15 +18,22 @@ struct Geometry {
     // Box and RandomPlanes
     Vec3 origin = Vec3::Zero(); ///< min corner [m]
     Vec3 size = Vec3::Constant(0.1); ///< edge lengths [m]
+    /// Box: 8 corners [m] in VTK hex order (bottom loop, then top); the grid is mapped onto
+    /// this hexahedron trilinearly instead of [origin, origin + size] (empty: the plain box).
+    /// Faces stay planar when each side of the hexahedron is planar (e.g. an extruded
+    /// quadrilateral: Cook's membrane).
+    std::vector<Vec3> corners;
     Eigen::Vector3i cells { 4, 4, 4 }; ///< blocks along x, y, z
     std::string elements = "tet"; ///< "tet" (split blocks) or "hex"
     std::string tet_split = "kuhn6"; ///< "kuhn6" or "five"
     int planes_per_cell = 0; ///< RandomPlanes: random planes cutting each block
     unsigned seed = 1; ///< RandomPlanes and meshing: random seed
     // Implicit; ConvexHull: "truncated_octahedron" or "" (explicit points)
-    std::string shape; ///< "sphere", "ellipsoid", "capsule", "blob"; "truncated_octahedron"
+    /// "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob"; "truncated_octahedron"
+    std::string shape;
     Vec3 center = Vec3::Zero(); ///< Implicit, ConvexHull shape: centre [m]
-    Vec3 radii = Vec3::Constant(0.05); ///< semi-axes [m] (sphere: radii.x())
+    Vec3 radii = Vec3::Constant(0.05); ///< semi-axes [m] (sphere, hollow_sphere: radii.x())
+    double inner_radius = 0; ///< hollow_sphere: radius of the cavity [m], < radii.x()
     double length = 0.1; ///< capsule segment length [m]
     // Implicit and SurfaceFile: CGAL Mesh_3
     double cell_size = 0.01; ///< target tet size [m]
@@ -64,6 +71,9 @@ struct Basis {
     std::string rule = "heuristic"; ///< mvc: "heuristic" (000 eq. 14-16) or "reference"
     int gauss_degree = 2; ///< degree of the Gauss rule on the centroid tetrahedralization
     double harmonic_xi = 0.1; ///< 001 eq. 12 kernel offset, relative to cell size
+    /// Volumetric strain of hexes and polyhedra: "full" (the cell's quadrature) or
+    /// "mean_dilatation" (B-bar: one pressure per cell, no volumetric locking near nu = 0.5)
+    std::string volumetric = "full";
 };
 
 struct Integrator {
@@ -78,6 +88,9 @@ struct Integrator {
     int threads = 1;
     /// implicit_euler: assemble the corotated stiffness every k steps, reuse it in between
     int stiffness_every = 1;
+    /// implicit_euler: redo a step that gains energy as two half steps (up to 16 substeps;
+    /// integrate::IntegratorOptions::energy_guard)
+    bool energy_guard = false;
 };
 
 struct Solver {
@@ -110,9 +123,13 @@ struct Selector {
     double tolerance = 1e-9; ///< Plane: distance [m]; Box: padding [m]
 };
 
-/// Fixed nodes: all three displacement components, or a subset ("x", "yz", ...).
+/// Fixed nodes: all three displacement components, or a subset ("x", "yz", ...), of the nodes a
+/// region selects or of the one node nearest a point (3-2-1 supports of a free body: no
+/// reactions under a self-equilibrated load such as a closed pressure surface).
 struct Fixed {
     Selector where;
+    bool at_node = false; ///< true: the node nearest `node` instead of the region `where`
+    Vec3 node = Vec3::Zero(); ///< rest-space point [m] (at_node)
     std::array<bool, 3> components { true, true, true };
 };
 
@@ -128,9 +145,17 @@ struct Force {
     Vec3 force = Vec3::Zero(); ///< total force [N]
 };
 
+/// A pressure on the boundary faces inside a region: traction -p n (n the outward normal of
+/// the tissue), so a positive p pushes into the tissue. Dead load: the rest-space faces.
+struct Pressure {
+    Selector region; ///< boundary faces whose nodes it all selects
+    double pressure = 0; ///< p [Pa]
+};
+
 struct Loads {
     Vec3 gravity = Vec3::Zero(); ///< [m/s^2]
     std::vector<Force> forces;
+    std::vector<Pressure> pressures;
 };
 
 struct Probe {

@@ -107,6 +107,23 @@ struct MeshStats {
     double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
 };
 
+/// Mechanical energy of the current state [J] (issue 17 item 4: with damping and no input, the
+/// total does not grow).
+struct Energy {
+    double kinetic = 0; ///< 1/2 v^T M v
+    double elastic = 0; ///< the model's strain energy (corotated or linear, as the scene says)
+    double gravity = 0; ///< potential of gravity relative to rest, -sum_i m_i g . (x_i - X_i)
+    double total() const { return kinetic + elastic + gravity; }
+};
+
+/// Sizes of what a scene built, for cost reports (issue 17 item 1).
+struct ModelStats {
+    Index dofs = 0; ///< 3 x the nodes used by cells
+    Index free_dofs = 0; ///< unknowns of the linear systems (fixed DOFs eliminated)
+    Index nonzeros = 0; ///< stored entries of the reduced stiffness (both triangles)
+    Index tets = 0, hexes = 0, polyhedra = 0; ///< cells by kind (P1, Q1, polyhedral basis)
+};
+
 /// What CGAL meshing reported when the scene's geometry was meshed (geometry "surface_file" or
 /// "implicit"): the repair of the surface and the quality of the tets (meshing::RepairReport and
 /// meshing::TetQuality, copied so that this header stays free of the meshing module).
@@ -199,6 +216,16 @@ public:
     /// Displacement [m] at a named probe (interpolated in the cell that contains it).
     Vec3 probe_displacement(const std::string& name) const;
     MeshStats mesh_stats() const;
+    /// Kinetic, elastic and gravitational energy of the current state.
+    Energy energy() const;
+    /// DOFs, nonzeros and cells by kind of the current model.
+    ModelStats model_stats() const;
+    /// Displacements u [m] at rest-space points (#P): P1 interpolation in a tet, the cell's
+    /// affine fit in other cells; inside[p] = 0 (u = 0) for a point in no cell (outside the
+    /// tissue or in a cut's gap). A trade study compares runs on different meshes through
+    /// these (issue 17 item 1).
+    void sample_displacements(const std::vector<Vec3>& points, std::vector<Vec3>& u,
+        std::vector<std::uint8_t>& inside) const;
     /// Number of cells, O(1) (mesh_stats() checks the surface and counts components, O(mesh)).
     Index cell_count() const;
     /// What meshing reported while the scene was built (meshed false if the geometry was not

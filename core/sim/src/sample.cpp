@@ -1,0 +1,167 @@
+// sim::Simulation::sample_displacements, model_stats and energy: the displacement field at many
+// rest points (a trade study compares runs on different meshes as fields, issue 17 item 1), the
+// sizes of what the scene built, and the energy the extremes tests watch (item 4).
+#include "impl.hpp"
+#include "polycut/geometry/affine_fit.hpp"
+#include "polycut/geometry/polygon.hpp"
+#include "polycut/geometry/polyhedron.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace polycut::sim {
+
+namespace {
+
+/// Uniform grid of cell bounds: the cells whose rest box holds a point, without a scan of
+/// the mesh per point.
+class CellGrid {
+public:
+    explicit CellGrid(const std::vector<geometry::Aabb>& boxes) {
+        for (const auto& b : boxes)
+            m_all.extend(b);
+        const double cells = std::max<double>(1.0, double(boxes.size()));
+        const Vec3 size = (m_all.hi - m_all.lo).cwiseMax(1e-12);
+        // About one cell per grid bucket.
+        const double h = std::cbrt(size.prod() / cells);
+        for (int a = 0; a < 3; ++a)
+            m_n[a] = std::clamp(int(std::ceil(size[a] / h)), 1, 256);
+        m_h = size.cwiseQuotient(Vec3(m_n[0], m_n[1], m_n[2]));
+        m_bucket.assign(std::size_t(m_n[0]) * std::size_t(m_n[1]) * std::size_t(m_n[2]), {});
+        for (std::size_t c = 0; c < boxes.size(); ++c) {
+            if (boxes[c].empty())
+                continue;
+            const auto lo = index(boxes[c].lo), hi = index(boxes[c].hi);
+            for (int k = lo[2]; k <= hi[2]; ++k)
+                for (int j = lo[1]; j <= hi[1]; ++j)
+                    for (int i = lo[0]; i <= hi[0]; ++i)
+                        m_bucket[flat(i, j, k)].push_back(Index(c));
+        }
+    }
+    /// Cells whose bucket holds X (empty outside the mesh's bounds).
+    const std::vector<Index>& candidates(const Vec3& X) const {
+        static const std::vector<Index> kNoCells;
+        if (((X - m_all.lo).array() < -1e-9 * m_all.diagonal()).any()
+            || ((X - m_all.hi).array() > 1e-9 * m_all.diagonal()).any())
+            return kNoCells;
+        const auto i = index(X);
+        return m_bucket[flat(i[0], i[1], i[2])];
+    }
+
+private:
+    std::array<int, 3> index(const Vec3& X) const {
+        std::array<int, 3> out {};
+        for (int a = 0; a < 3; ++a)
+            out[std::size_t(a)]
+                = std::clamp(int(std::floor((X[a] - m_all.lo[a]) / m_h[a])), 0, m_n[a] - 1);
+        return out;
+    }
+    std::size_t flat(int i, int j, int k) const {
+        return (std::size_t(k) * std::size_t(m_n[1]) + std::size_t(j)) * std::size_t(m_n[0])
+            + std::size_t(i);
+    }
+    geometry::Aabb m_all;
+    int m_n[3] = { 1, 1, 1 };
+    Vec3 m_h = Vec3::Ones();
+    std::vector<std::vector<Index>> m_bucket;
+};
+
+} // namespace
+
+void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vector<Vec3>& u,
+    std::vector<std::uint8_t>& inside) const {
+    const Impl& s = *m_impl;
+    const mesh::Mesh& m = s.mesh;
+    u.assign(points.size(), Vec3::Zero());
+    inside.assign(points.size(), 0);
+    std::vector<geometry::Aabb> boxes(std::size_t(m.num_cells()));
+    for (Index c = 0; c < m.num_cells(); ++c)
+        for (Index n : m.cells[std::size_t(c)].nodes)
+            boxes[std::size_t(c)].extend(m.rest[std::size_t(n)]);
+    const CellGrid grid(boxes);
+    geometry::Aabb all;
+    for (const auto& b : boxes)
+        all.extend(b);
+    const double eps = 1e-9 * all.diagonal();
+    auto disp = [&](Index n) { return Vec3(s.positions[std::size_t(n)] - m.rest[std::size_t(n)]); };
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        const Vec3& X = points[p];
+        for (Index c : grid.candidates(X)) {
+            const geometry::Aabb& b = boxes[std::size_t(c)];
+            if (((X - b.lo).array() < -eps).any() || ((X - b.hi).array() > eps).any())
+                continue;
+            const mesh::Cell& cell = m.cells[std::size_t(c)];
+            if (cell.shape == mesh::CellShape::Tet) {
+                // P1 interpolation, exact for the tet's field.
+                const auto& n = cell.nodes;
+                const Vec3& a = m.rest[std::size_t(n[0])];
+                Mat3 T;
+                T << m.rest[std::size_t(n[1])] - a, m.rest[std::size_t(n[2])] - a,
+                    m.rest[std::size_t(n[3])] - a;
+                const Vec3 l = T.lu().solve(X - a);
+                const double l0 = 1.0 - l.sum();
+                if (!(l0 >= -1e-9 && (l.array() >= -1e-9).all()))
+                    continue;
+                u[p] = l0 * disp(n[0]) + l.x() * disp(n[1]) + l.y() * disp(n[2])
+                    + l.z() * disp(n[3]);
+                inside[p] = 1;
+                break;
+            }
+            // Other cells are convex (cut cells of the polyhedral methods too): inside all
+            // face planes; the field is read from the cell's affine fit.
+            bool in = true;
+            for (const auto& loop : m.cell_face_loops(c)) {
+                const auto pts = geometry::gather(m.rest, loop);
+                if ((X - geometry::polygon_centroid(pts)).dot(geometry::polygon_normal(pts))
+                    > eps) {
+                    in = false;
+                    break;
+                }
+            }
+            if (!in)
+                continue;
+            const auto rest = geometry::gather(m.rest, cell.nodes);
+            const auto world = geometry::gather(s.positions, cell.nodes);
+            const geometry::AffineFit fit = geometry::fit_affine(rest, world);
+            u[p] = fit.A * X + fit.t - X;
+            inside[p] = 1;
+            break;
+        }
+    }
+}
+
+Energy Simulation::energy() const {
+    const Impl& s = *m_impl;
+    Energy e;
+    const VecX& m = s.model->nodal_mass();
+    const Vec3 g = s.scene.loads.gravity;
+    for (Index i = 0; i < Index(s.state.x.rows()) && i < Index(m.size()); ++i) {
+        e.kinetic += 0.5 * m(i) * s.state.v.row(i).squaredNorm();
+        e.gravity -= m(i) * g.dot(s.state.x.row(i).transpose() - s.mesh.rest[std::size_t(i)]);
+    }
+    e.elastic = s.model->elastic_energy(s.state.x,
+        s.scene.integrator.corotated ? elasticity::ForceMode::Corotated
+                                     : elasticity::ForceMode::Linear);
+    return e;
+}
+
+ModelStats Simulation::model_stats() const {
+    const Impl& s = *m_impl;
+    ModelStats st;
+    std::vector<std::uint8_t> used(s.mesh.rest.size(), 0);
+    for (const mesh::Cell& c : s.mesh.cells)
+        for (Index n : c.nodes)
+            used[std::size_t(n)] = 1;
+    st.dofs = 3 * Index(std::count(used.begin(), used.end(), std::uint8_t(1)));
+    st.free_dofs = s.model->num_free_dofs();
+    st.nonzeros = Index(s.model->make_matrix().nonZeros());
+    for (const mesh::Cell& c : s.mesh.cells) {
+        st.tets += c.shape == mesh::CellShape::Tet ? 1 : 0;
+        st.hexes += c.shape == mesh::CellShape::Hex ? 1 : 0;
+        st.polyhedra += c.shape == mesh::CellShape::Polyhedron ? 1 : 0;
+    }
+    return st;
+}
+
+} // namespace polycut::sim

@@ -1,0 +1,1 @@
+"""polycut-study: trade studies of polycut's methods (docs/study.md)."""
