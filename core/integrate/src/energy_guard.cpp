@@ -2,6 +2,7 @@
 // docs/decisions/0013): a step that gains energy is halved, and a gain no halving removes is
 // taken out by shortening the step.
 #include "polycut/integrate/integrator.hpp"
+#include "polycut/integrate/springs.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +16,9 @@ double Integrator::total_energy(const State& s) const {
     double gravity = 0;
     for (Index i = 0; i < s.x.rows(); ++i)
         gravity -= m(i) * m_options.gravity.dot(s.x.row(i).transpose() - rest[std::size_t(i)]);
-    return energy(s) + gravity;
+    // Grab springs are potential forces too (anchors fixed within a step): without their energy
+    // every step toward a moved grab target read as a gain and was shortened to nothing.
+    return energy(s) + gravity + spring_energy(m_springs, s.x);
 }
 
 bool Integrator::step_implicit_guarded(State& s, StepReport& report, double h, int depth) {
