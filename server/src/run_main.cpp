@@ -17,9 +17,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sys/resource.h>
 #include <memory>
 #include <string>
+#include <sys/resource.h>
 
 namespace {
 

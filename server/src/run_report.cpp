@@ -62,16 +62,17 @@ nlohmann::json to_json(const RunRecord& r) {
         { "peak_rss_mb", double(r.peak_rss_kb) / 1024.0 } };
     j["model"] = { { "dofs", r.model.dofs }, { "free_dofs", r.model.free_dofs },
         { "nonzeros", r.model.nonzeros },
-        { "cells", { { "tet", r.model.tets }, { "hex", r.model.hexes },
-                       { "polyhedron", r.model.polyhedra } } } };
+        { "cells",
+            { { "tet", r.model.tets }, { "hex", r.model.hexes },
+                { "polyhedron", r.model.polyhedra } } } };
     if (!r.sample_points.empty()) {
         nlohmann::json u = nlohmann::json::array(), inside = nlohmann::json::array();
         for (std::size_t i = 0; i < r.sample_points.size(); ++i) {
             u.push_back({ r.sample_u[i].x(), r.sample_u[i].y(), r.sample_u[i].z() });
             inside.push_back(r.sample_inside[i] != 0);
         }
-        j["samples"] = { { "count", r.sample_points.size() }, { "displacement", u },
-            { "inside", inside } };
+        j["samples"]
+            = { { "count", r.sample_points.size() }, { "displacement", u }, { "inside", inside } };
     }
     j["solver"] = { { "iterations", summary_json(summarize(r.iterations)) },
         { "max_residual", r.max_residual }, { "rolled_back_steps", r.rolled_back } };

@@ -134,7 +134,8 @@ TEST(ElementStiffness, MeanDilatationKeepsRigidModesAndConstantStrains) {
         const auto X = distorted_hex(seed);
         const basis::CellIntegration ci = basis::q1_integration(X, 2);
         for (double nu : { 0.0, 0.3, 0.4999 }) {
-            const MatX K = element_stiffness(ci, material(nu), basis::VolumetricRule::MeanDilatation);
+            const MatX K
+                = element_stiffness(ci, material(nu), basis::VolumetricRule::MeanDilatation);
             EXPECT_LT((K - K.transpose()).norm(), 1e-13 * K.norm());
             const Eigen::SelfAdjointEigenSolver<MatX> eig(K);
             const VecX ev = eig.eigenvalues();

@@ -62,8 +62,8 @@ bool step_and_check(sim::Simulation& sim, int n, Watch& w, const std::vector<Vec
             const double rise = (now - energy) / scale;
             w.worst_energy_rise = std::max(w.worst_energy_rise, rise);
             if (rise > w.energy_slack) {
-                ADD_FAILURE() << "total energy rose by " << rise << " of its scale at step " << w.steps
-                              << " (" << energy << " -> " << now << " J)";
+                ADD_FAILURE() << "total energy rose by " << rise << " of its scale at step "
+                              << w.steps << " (" << energy << " -> " << now << " J)";
                 return false;
             }
         }

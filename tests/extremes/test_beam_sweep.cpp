@@ -6,7 +6,6 @@
 // Euler (must either run the same way or be refused at load with the stability limit it
 // computed). One test per method and nu; each runs the 16 (E, dt) pairs.
 #include "extremes.hpp"
-
 #include "polycut/common/error.hpp"
 
 #include <algorithm>

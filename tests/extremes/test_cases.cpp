@@ -4,7 +4,6 @@
 // away, 1,000 cuts at one place, slices 1e-6 m thin, cells of aspect 1e-4, and a cut that frees
 // a piece in a dynamic scene.
 #include "extremes.hpp"
-
 #include "polycut/common/error.hpp"
 
 #include <cmath>
@@ -17,7 +16,8 @@ using namespace polycut::extremes;
 namespace {
 std::string temp_dir(const std::string& name) {
     const auto d = std::filesystem::temp_directory_path()
-        / ("polycut_extremes_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+        / ("polycut_extremes_" + name + "_"
+            + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
     std::filesystem::create_directories(d);
     return d.string();
 }
@@ -76,8 +76,9 @@ TEST(Extremes, InvertedTetInAMeshFileIsReorientedAndHexIsRefused) {
            "3 0.1 0.1 0.1\n4 0 0.1 0.1\n5 0 0 0\n6 0.1 0 0\n7 0.1 0.1 0\n8 0 0.1 0\n$EndNodes\n"
            "$Elements\n1\n1 5 2 0 1 1 2 3 4 5 6 7 8\n$EndElements\n";
     try {
-        sim::Simulation hex(scene::parse_scene(R"({"name": "hex", "geometry": {"type": "mesh_file", "path": ")"
-            + dir + R"(/hex.msh"}, "method": "mvc", "material": {"youngs_modulus": 1e4}})"));
+        sim::Simulation hex(
+            scene::parse_scene(R"({"name": "hex", "geometry": {"type": "mesh_file", "path": ")"
+                + dir + R"(/hex.msh"}, "method": "mvc", "material": {"youngs_modulus": 1e4}})"));
         ADD_FAILURE() << "an inverted hexahedron was accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("inverted hexahedron"), std::string::npos) << e.what();
@@ -205,8 +206,7 @@ TEST(Extremes, SlicesOneMicrometreThin) {
                 s.cut(vertical_cut(0.0125 + 1e-6 * k));
             } catch (const InputError&) {
                 throw;
-            } catch (const Error&) {
-            }
+            } catch (const Error&) { }
             w.undriven = false;
             ASSERT_TRUE(step_and_check(s, 2, w, rest)) << w.first_warning;
         }
@@ -230,8 +230,10 @@ TEST(Extremes, CellsOfAspect1em4) {
         const std::string text = R"({"name": "sheet",
           "geometry": {"type": "box", "size": [0.1, 0.1, 1e-5], "cells": [1, 1, 1], "elements": ")"
             + std::string(tet ? "tet" : "hex") + R"("},
-          "method": ")" + (tet ? "tet" : "hex") + R"(",
-          "basis": {"volumetric": ")" + (method == "hex_bbar" ? "mean_dilatation" : "full") + R"("},
+          "method": ")"
+            + (tet ? "tet" : "hex") + R"(",
+          "basis": {"volumetric": ")"
+            + (method == "hex_bbar" ? "mean_dilatation" : "full") + R"("},
           "material": {"youngs_modulus": 1e6, "poisson_ratio": 0.45, "density": 1000, "rayleigh_mass": 1, "rayleigh_stiffness": 0.001},
           "integrator": {"type": "implicit_euler", "dt": 0.001, "corotated": true, "energy_guard": true},
           "solver": {"type": "cholmod"},
@@ -284,7 +286,8 @@ TEST(Extremes, CutFreesAPieceThatFallsFreely) {
     }
     // Over the last 20 steps (the piece's own vibration damped): mean acceleration = -g.
     const std::size_t n = mean_z.size();
-    const double accel = (mean_z[n - 1] - mean_z[n - 2] - (mean_z[n - 21] - mean_z[n - 22])) / (20 * 1e-4);
+    const double accel
+        = (mean_z[n - 1] - mean_z[n - 2] - (mean_z[n - 21] - mean_z[n - 22])) / (20 * 1e-4);
     EXPECT_NEAR(accel, -kG, 0.02 * kG);
     RecordProperty("acceleration", std::to_string(accel));
     EXPECT_EQ(w.rollbacks, 0);

@@ -7,7 +7,6 @@
 // not growing, the centre of mass falling no faster than free fall), and semi-implicit Euler
 // runs the same way or is refused at load with its limit.
 #include "extremes.hpp"
-
 #include "polycut/common/error.hpp"
 
 #include <cmath>
@@ -27,7 +26,8 @@ std::string organ_scene(double nu, double E, double dt, const std::string& integ
     s << R"({"name": "organ", "geometry": {"type": "implicit", "shape": "blob", "cell_size": 0.009, "seed": 0},
       "method": "tet",
       "material": {"youngs_modulus": )"
-      << E << R"(, "poisson_ratio": )" << nu << R"(, "density": 1000, "rayleigh_mass": 1.0, "rayleigh_stiffness": 0.001},
+      << E << R"(, "poisson_ratio": )" << nu
+      << R"(, "density": 1000, "rayleigh_mass": 1.0, "rayleigh_stiffness": 0.001},
       "integrator": {"type": ")"
       << integrator << R"(", "dt": )" << dt << R"(, "corotated": true, "energy_guard": true},
       "solver": {"type": "cholmod"},

@@ -179,7 +179,8 @@ TEST(Scene, PressureCornersHollowSphereNodeSupportsAndVolumetricParse) {
     EXPECT_EQ(error_pointer(with(R"("loads": {"gravity": [0, 0, -9.81]})",
                   R"("loads": {"pressure": [{"pressure": 1}]})")),
         "/loads/pressure/0");
-    EXPECT_EQ(error_pointer(with(R"("loads": {)", R"("basis": {"volumetric": "bbar"}, "loads": {)")),
+    EXPECT_EQ(
+        error_pointer(with(R"("loads": {)", R"("basis": {"volumetric": "bbar"}, "loads": {)")),
         "/basis/volumetric");
 
     const Scene c = parse_scene(with(R"("size": [0.1, 0.1, 0.1])",
@@ -196,7 +197,8 @@ TEST(Scene, PressureCornersHollowSphereNodeSupportsAndVolumetricParse) {
         R"("geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]})", hollow));
     EXPECT_EQ(h.geometry.shape, "hollow_sphere");
     EXPECT_DOUBLE_EQ(h.geometry.inner_radius, 0.02);
-    EXPECT_EQ(error_pointer(with(R"("geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]})",
+    EXPECT_EQ(error_pointer(with(
+                  R"("geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]})",
                   R"("geometry": {"type": "implicit", "shape": "hollow_sphere", "radius": 0.04,
                       "inner_radius": 0.05, "cell_size": 0.005})")),
         "/geometry/inner_radius");

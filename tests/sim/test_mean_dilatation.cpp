@@ -38,10 +38,10 @@ TEST(MeanDilatation, CorotatedAndCutStepsWithoutRollbackAndIsSofterThanLockedQ1)
     EXPECT_GT(sag_full, 0);
     EXPECT_GT(sag_bbar, 1.1 * sag_full) << "full " << sag_full << " bbar " << sag_bbar;
     // A cut through the hanging half: split cells become mvc polyhedra with the mean dilatation.
-    const std::vector<std::array<Vec3, 3>> sweep { { Vec3(0.0125, -0.08, 0.13),
-                                                       Vec3(0.0125, -0.08, 0.04),
-                                                       Vec3(0.0125, 0.08, 0.13) },
-        { Vec3(0.0125, -0.08, 0.04), Vec3(0.0125, 0.08, 0.04), Vec3(0.0125, 0.08, 0.13) } };
+    const std::vector<std::array<Vec3, 3>> sweep {
+        { Vec3(0.0125, -0.08, 0.13), Vec3(0.0125, -0.08, 0.04), Vec3(0.0125, 0.08, 0.13) },
+        { Vec3(0.0125, -0.08, 0.04), Vec3(0.0125, 0.08, 0.04), Vec3(0.0125, 0.08, 0.13) }
+    };
     const sim::CutSummary c = bbar.cut(sweep);
     EXPECT_GT(c.cells_split, 0);
     EXPECT_GT(bbar.model_stats().polyhedra, 0);

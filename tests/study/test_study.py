@@ -156,11 +156,16 @@ class Plans(unittest.TestCase):
         self.assertIn(f"/opt/polycut/bin/polycut-study run-one {s.path} --out /shared/out", text)
         collect = plan.slurm_collect(s, "/shared/out", "polycut-study")
         self.assertIn("polycut-study collect", collect)
-        k8s = plan.kubernetes(s, "/shared/out", "polycut-study", image="img:1")
+        k8s = plan.kubernetes(s, os.path.join(ROOT, "out"), "polycut-study", image="img:1")
         self.assertIn("completionMode: Indexed", k8s)
         self.assertIn(f"completions: {n}\n", k8s)
         self.assertIn("image: img:1", k8s)
         self.assertIn('"run-one"', k8s)
+        # The volume is mounted at the study's and the output's common directory.
+        self.assertIn(f"mountPath: {os.path.join(ROOT, 'assets')}\n",
+                      plan.kubernetes(s, os.path.join(ROOT, "assets", "out"), "polycut-study"))
+        with self.assertRaises(ValueError):  # nothing in common but "/"
+            plan.kubernetes(s, "/nowhere-near/out", "polycut-study")
         par = plan.gnu_parallel(s, "/o", "polycut-study")
         self.assertIn(f"seq 0 {n - 1} | parallel", par)
 

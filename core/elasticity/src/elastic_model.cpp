@@ -442,6 +442,7 @@ void ElasticModel::cell_stretch_squared(const MatX3& x, std::vector<double>& out
 
 double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
     double energy = 0;
+    VecX u, Ku; // reused: no allocation per cell (the energy guard calls this twice a step)
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
         const CellData& cd = m_cells[c];
         const Index n = Index(cd.nodes.size());
@@ -456,11 +457,12 @@ double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
                 A += (x.row(cd.nodes[std::size_t(i)]).transpose() - xc) * cd.fit.row(i);
             R = polar_rotation_warm(A, m_rotation[c]);
         }
-        VecX u(3 * n);
+        u.resize(3 * n);
         for (Index i = 0; i < n; ++i)
             u.segment<3>(3 * i) = R.transpose() * (x.row(cd.nodes[std::size_t(i)]).transpose() - xc)
                 - cd.rest_local.row(i).transpose();
-        energy += 0.5 * u.dot(cd.stiffness * u);
+        Ku.noalias() = cd.stiffness.selfadjointView<Eigen::Lower>() * u;
+        energy += 0.5 * u.dot(Ku);
     }
     return energy;
 }

@@ -68,8 +68,8 @@ bool Integrator::step_implicit_guarded(State& s, StepReport& report, double h, i
         energy_at(lo, w);
         report.warnings.push_back("energy rose by " + std::to_string(e1 - e0 - work)
             + " J in a step of " + std::to_string(h) + " s after halving it "
-            + std::to_string(depth) + " times; the step was shortened to "
-            + std::to_string(lo) + " of it");
+            + std::to_string(depth) + " times; the step was shortened to " + std::to_string(lo)
+            + " of it");
         return true;
     }
     // Redo as two half steps; the cached step matrix was made for h.

@@ -136,8 +136,8 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         g.seed = unsigned(r.integer("seed", 1, 0, std::numeric_limits<int>::max()));
     } else if (type == "implicit") {
         g.kind = Geometry::Kind::Implicit;
-        g.shape = r.choice(
-            "shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
+        g.shape
+            = r.choice("shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
         g.center = r.vec3("center", g.center, false, "m");
         if (g.shape == "sphere" || g.shape == "capsule" || g.shape == "hollow_sphere") {
             const double radius = r.number_required("radius", 0, kMaxLength, true, "m");

@@ -190,10 +190,10 @@ mesh::Mesh convex_hull_mesh(const scene::Geometry& g) {
 void map_to_corners(mesh::Mesh& m, const std::vector<Vec3>& c) {
     for (Vec3& X : m.rest) {
         const double u = X.x(), v = X.y(), w = X.z();
-        const Vec3 bottom = (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2]
-            + (1 - u) * v * c[3];
-        const Vec3 top = (1 - u) * (1 - v) * c[4] + u * (1 - v) * c[5] + u * v * c[6]
-            + (1 - u) * v * c[7];
+        const Vec3 bottom
+            = (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3];
+        const Vec3 top
+            = (1 - u) * (1 - v) * c[4] + u * (1 - v) * c[5] + u * v * c[6] + (1 - u) * v * c[7];
         X = (1 - w) * bottom + w * top;
     }
 }

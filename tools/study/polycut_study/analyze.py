@@ -44,7 +44,8 @@ def collect(study, out):
         r = results[i]
         row = {c: None for c in COLUMNS}
         row.update(index=i, problem=j["problem"], label=j["label"],
-                   group="reference" if j["kind"] == "reference" else _group(j["assignment"], study.group_by),
+                   group="reference" if j["kind"] == "reference"
+                   else _group(j["assignment"], study.problem(j["problem"])["group_by"]),
                    ok=False, message="no result", pareto=False)
         if r is None or r.get("digest") != digest:
             rows.append(row)

@@ -99,8 +99,13 @@ def main(argv=None):
     if a.slurm:
         files = {"study.sbatch": plan.slurm(study, out, tool, a.time),
                  "collect.sbatch": plan.slurm_collect(study, out, tool)}
+        os.makedirs(os.path.join(out, "logs"), exist_ok=True)  # Slurm does not create it
     elif a.k8s:
-        files = {"study-job.yaml": plan.kubernetes(study, out, tool, a.image, a.claim)}
+        try:
+            files = {"study-job.yaml": plan.kubernetes(study, out, tool, a.image, a.claim)}
+        except ValueError as e:
+            print(f"polycut-study: {e}", file=sys.stderr)
+            return 2
     else:
         files = {"parallel.sh": plan.gnu_parallel(study, out, tool)}
     for name, text in files.items():

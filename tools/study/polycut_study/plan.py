@@ -55,6 +55,10 @@ def kubernetes(study, out, tool, image="polycut:latest", claim="polycut-study", 
     n = len(study.jobs)
     threads = _max_threads(study)
     name = f"polycut-study-{study.name}".lower().replace("_", "-").replace(".", "-")[:52]
+    mount = os.path.commonpath([os.path.dirname(study.path), out])
+    if mount == os.sep:
+        raise ValueError(f"the study ({study.path}) and the output ({out}) share no directory "
+                         "to mount from the volume claim: put both under one")
     return f"""# polycut trade study {study.name}: {n} jobs as a Kubernetes Indexed Job (docs/study.md).
 # kubectl apply -f {os.path.join(out, 'plan', 'study-job.yaml')}
 # kubectl wait --for=condition=complete job/{name} --timeout=24h
@@ -82,7 +86,7 @@ spec:
             cpu: "{threads}"
         volumeMounts:
         - name: study
-          mountPath: {os.path.commonpath([os.path.dirname(study.path), out])}
+          mountPath: {mount}
       volumes:
       - name: study
         persistentVolumeClaim:

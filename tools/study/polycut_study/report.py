@@ -80,9 +80,9 @@ def plot(study, rows, out, command):
     markers = "osD^v<>phX*P"
     plots = ensure_dir(os.path.join(out, "plots"))
     paths = []
-    groups = sorted({r["group"] for r in rows if r["group"] != "reference"})
-    style = {g: markers[i % len(markers)] for i, g in enumerate(groups)}
     for p in study.problems:
+        groups = sorted({r["group"] for r in rows if r["problem"] == p["name"] and r["group"] != "reference"})
+        style = {g: markers[i % len(markers)] for i, g in enumerate(groups)}
         mine = [r for r in rows if r["problem"] == p["name"] and r["ok"] and r["group"] != "reference"
                 and r[study.cost] and r["error"] is not None and math.isfinite(r["error"])]
         fig, axes = plt.subplots(figsize=(6.4, 4.6))

@@ -93,6 +93,7 @@ class Study:
             "exclude": self.doc.get("exclude", []) + p.get("exclude", []),
             "duration": p.get("duration", ax.base_duration(base)),
             "reference": ref,
+            "group_by": p.get("group_by", self.group_by),
             "samples": references.sample_points(ref, base, f"{where}/reference")
             if "converged" in ref else None,
         }

@@ -1,5 +1,5 @@
-// Implicit shapes (sphere, hollow sphere, ellipsoid, capsule, organ-like blob) and their tetrahedral meshes by
-// CGAL Mesh_3 on a labeled implicit domain.
+// Implicit shapes (sphere, hollow sphere, ellipsoid, capsule, organ-like blob) and their
+// tetrahedral meshes by CGAL Mesh_3 on a labeled implicit domain.
 #pragma once
 
 #include "polycut/common/types.hpp"
@@ -63,7 +63,8 @@ struct VolumeEstimate {
 /// finest cells the surface may cross.
 VolumeEstimate estimate_implicit_volume(const ImplicitShape& shape, int depth = 8);
 
-/// Exact volume [m^3] for Sphere, HollowSphere, Ellipsoid and Capsule; for Blob, estimate_implicit_volume().
+/// Exact volume [m^3] for Sphere, HollowSphere, Ellipsoid and Capsule; for Blob,
+/// estimate_implicit_volume().
 double implicit_volume(const ImplicitShape& shape);
 
 /// Throws InputError if the shape has non-positive or non-finite radii, a negative length or a
