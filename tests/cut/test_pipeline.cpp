@@ -8,7 +8,6 @@
 #include "polycut/mesh/builders.hpp"
 
 #include <gtest/gtest.h>
-
 #include <limits>
 
 namespace polycut::cut {

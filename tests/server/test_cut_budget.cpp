@@ -47,7 +47,8 @@ double cut_area(const SurfaceFrame& s) {
         polycut::Vec3 p[3];
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t v = s.triangles[3 * t + std::size_t(k)];
-            p[k] = polycut::Vec3(s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]);
+            p[k]
+                = polycut::Vec3(s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]);
         }
         area += 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
     }

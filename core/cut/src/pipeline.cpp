@@ -115,8 +115,8 @@ struct CutPipeline::Impl {
     }
 
     /// Checks every world triangle (nothing changes on rejection).
-    bool validate(std::span<const Triangle> world, std::span<const Vec3> positions,
-        CutResult& result) const {
+    bool validate(
+        std::span<const Triangle> world, std::span<const Vec3> positions, CutResult& result) const {
         auto reject = [&](std::size_t t, int corner, std::string reason) {
             result.status = CutStatus::Rejected;
             result.rejected_triangle = std::ptrdiff_t(t);
@@ -253,7 +253,8 @@ struct CutPipeline::Impl {
             const Vec3 world_n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
             for (std::size_t k = 0; k < 3; ++k)
                 if (!known[k])
-                    corners.push_back({ tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
+                    corners.push_back(
+                        { tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
             rest.push_back(r);
             source.push_back(t);
         }

@@ -29,7 +29,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     }
     if (!s.cutting) {
         cut::PipelineOptions opt;
-        opt.method = s.scene.cutting.method == "snap" ? cut::CutMethod::Snap : cut::CutMethod::Split;
+        opt.method
+            = s.scene.cutting.method == "snap" ? cut::CutMethod::Snap : cut::CutMethod::Split;
         opt.split.snap = s.scene.cutting.snap_distance;
         opt.split.sliver_volume = s.scene.cutting.sliver_volume;
         s.cutting = std::make_unique<cut::CutPipeline>(s.mesh, s.initial_mesh, opt);
@@ -123,8 +124,8 @@ CutSummary Simulation::end_stroke() {
     // Face snapping holds faces back while cutting them would pinch an edge; when the blade is
     // lifted they are cut (their pinched edges split), so the stroke ends complete.
     std::unique_ptr<Impl::Snapshot> before;
-    cut::CutResult result = s.cutting->end_stroke(
-        [&] { before = std::make_unique<Impl::Snapshot>(s.snapshot()); });
+    cut::CutResult result
+        = s.cutting->end_stroke([&] { before = std::make_unique<Impl::Snapshot>(s.snapshot()); });
     if (before)
         s.settle_cut(result, summary, *before);
     if (summary.status == CutSummary::Status::Failed)

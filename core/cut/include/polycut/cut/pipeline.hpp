@@ -76,10 +76,11 @@ public:
     /// (#N) [m], then cuts the mesh along them in order. With `max_changed_cells` > 0 the cut
     /// stops after the triangle that brings the cells it changed (split or rewritten) to that
     /// many, and the rest is Deferred; at least one triangle is cut, so a stroke advances. The
-    /// budget is a count, not a time, so a replayed command log cuts the same. Rejected leaves everything as it was.
-    /// Failed leaves the mesh half cut: restore it and call forget(). `before_change` runs once
-    /// right before the mesh is first changed (to snapshot what the caller must undo), and not at
-    /// all when nothing is to be cut. Never throws for bad input or a failing cutter.
+    /// budget is a count, not a time, so a replayed command log cuts the same. Rejected leaves
+    /// everything as it was. Failed leaves the mesh half cut: restore it and call forget().
+    /// `before_change` runs once right before the mesh is first changed (to snapshot what the
+    /// caller must undo), and not at all when nothing is to be cut. Never throws for bad input or a
+    /// failing cutter.
     CutResult cut(std::span<const Triangle> world, std::span<const Vec3> positions,
         Index max_changed_cells = 0, const std::function<void()>& before_change = {});
     /// Ends the current stroke: forgets its corners; face snapping cuts the faces it held back
