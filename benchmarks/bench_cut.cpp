@@ -154,7 +154,8 @@ json run(const std::string& path, const Args& a) {
         { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) },
         { "tick_ms", percentiles(tick_ms) }, { "ticks_over_16_7", over_budget },
         { "ticks_over_50", over_50 }, { "completeness", st.completeness() },
-        { "failed_cuts", failed }, { "deferred_triangles", deferred }, { "undone", undone }, { "undo_reasons", reasons } };
+        { "failed_cuts", failed }, { "deferred_triangles", deferred }, { "undone", undone },
+        { "undo_reasons", reasons } };
 }
 
 } // namespace

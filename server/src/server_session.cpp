@@ -5,6 +5,7 @@
 #include "polycut/protocol/sweep.hpp"
 #include "polycut/scene/scene.hpp"
 #include "polycut/sim/estimate.hpp"
+#include "server_session_detail.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -20,14 +21,8 @@ using protocol::ErrorCode;
 using protocol::make_error;
 using protocol::RpcError;
 
-/// A result that did not change the scene.
-Applied done(protocol::Result result) {
-    return Applied { std::move(result), false, {} };
-}
-
-Vec3 to_vec(const protocol::Vector3& v) {
-    return Vec3(v[0], v[1], v[2]);
-}
+using detail::done;
+using detail::to_vec;
 
 /// A file-based geometry in an inline scene may only name a file under the scene directory.
 std::optional<RpcError> check_inline_paths(const scene::Scene& s) {

@@ -3,6 +3,7 @@
 // becomes a JSON-RPC answer or a `rejected` event. See server_session.cpp for the rest.
 #include "polycut/protocol/sweep.hpp"
 #include "server_session.hpp"
+#include "server_session_detail.hpp"
 
 #include <algorithm>
 
@@ -14,14 +15,8 @@ using protocol::ErrorCode;
 using protocol::make_error;
 using protocol::RpcError;
 
-/// A result that did not change the scene.
-Applied done(protocol::Result result) {
-    return Applied { std::move(result), false, {} };
-}
-
-Vec3 to_vec(const protocol::Vector3& v) {
-    return Vec3(v[0], v[1], v[2]);
-}
+using detail::done;
+using detail::to_vec;
 
 } // namespace
 

@@ -44,8 +44,8 @@ TEST(OrganCut, TwoThreadsNeverUndoACut) {
         const auto q = at(k);
         if (std::max((q.first - last.first).norm(), (q.second - last.second).norm())
             >= s.blade_min_advance()) {
-            EXPECT_TRUE(s.cut(
-                { { last.first, last.second, q.first }, { last.second, q.second, q.first } })
+            EXPECT_TRUE(
+                s.cut({ { last.first, last.second, q.first }, { last.second, q.second, q.first } })
                     .ok());
             last = q;
         }

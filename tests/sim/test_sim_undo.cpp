@@ -74,8 +74,8 @@ void pull_hard(Simulation& a) {
 
 TEST(SimulationUndo, AStepThatExplodesRightAfterACutUndoesTheCut) {
     // A grab spring of 1e9 N/m pulled 1 m away drags the corner 1 m in one step: the step after
-    // the cut explodes (a cell stretches past IntegratorOptions::stretch_limit), is rolled back, and
-    // takes the cut with it. Nothing exploded is ever in positions().
+    // the cut explodes (a cell stretches past IntegratorOptions::stretch_limit), is rolled back,
+    // and takes the cut with it. Nothing exploded is ever in positions().
     Simulation a(scene::parse_scene(kBlock));
     a.step();
     const auto cells = a.mesh_stats().cells;

@@ -176,8 +176,7 @@ TEST(Simulation, BadInputThrowsAndChangesNothing) {
     const sim::CutSummary tiny = s.cut({ { Vec3(0, 0, 0), Vec3(1e-7, 0, 0), Vec3(0, 1e-7, 0) } });
     EXPECT_EQ(tiny.status, sim::CutSummary::Status::Applied);
     EXPECT_EQ(tiny.triangles_skipped, 1);
-    const sim::CutSummary nonfinite
-        = s.cut({ { Vec3(0, 0, 0), Vec3(nan, 0, 0), Vec3(0, 1, 0) } });
+    const sim::CutSummary nonfinite = s.cut({ { Vec3(0, 0, 0), Vec3(nan, 0, 0), Vec3(0, 1, 0) } });
     EXPECT_EQ(nonfinite.status, sim::CutSummary::Status::Rejected);
     EXPECT_EQ(nonfinite.rejected_triangle, 0);
     EXPECT_EQ(nonfinite.rejected_corner, 1);

@@ -23,5 +23,4 @@ double triangle_quality(const Triangle3& triangle);
 std::optional<std::string> triangle_defect(
     const Triangle3& triangle, double min_quality = kMinTriangleQuality);
 
-
 } // namespace polycut::protocol
