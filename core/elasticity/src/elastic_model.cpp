@@ -176,6 +176,15 @@ void ElasticModel::update_cells(
         return;
     }
     std::vector<char> kept; // with a cell map: the cells whose data moved to their new id
+    // For the pattern: nodes whose set of cells changes, and each cell's id at the last build
+    // when it is the same cell.
+    std::vector<char> affected(n_dofs / 3, 0);
+    std::vector<Index> old_cell(n_cells, kNone);
+    auto touch = [&](const std::vector<Index>& nodes) {
+        for (Index i : nodes)
+            if (std::size_t(i) < affected.size())
+                affected[std::size_t(i)] = 1;
+    };
     if (!cell_map.empty()) {
         // Cells removed (merged away): the survivors' data (everything compute_cell() makes per
         // cell) moves to their new ids, O(cells) moves instead of a new basis, quadrature and
@@ -187,8 +196,11 @@ void ElasticModel::update_cells(
         kept.assign(n_cells, 0);
         for (std::size_t c = 0; c < std::min(cell_map.size(), m_cells.size()); ++c) {
             const Index to = cell_map[c];
-            if (to == kNone || std::size_t(to) >= n_cells)
+            if (to == kNone || std::size_t(to) >= n_cells) {
+                touch(m_cells[c].nodes); // merged away
                 continue;
+            }
+            old_cell[std::size_t(to)] = Index(c);
             cells[std::size_t(to)] = std::move(m_cells[c]);
             rotation[std::size_t(to)] = m_rotation[c];
             p1[std::size_t(to)] = m_p1[c];
@@ -204,6 +216,9 @@ void ElasticModel::update_cells(
         return;
     }
     const std::size_t old_cells = cell_map.empty() ? m_cells.size() : n_cells;
+    if (cell_map.empty())
+        std::iota(old_cell.begin(), old_cell.begin() + std::ptrdiff_t(std::min(old_cells, n_cells)),
+            Index(0));
     for (Index c : changed)
         if (c < 0 || std::size_t(c) >= n_cells)
             throw InputError("changed", "cell id out of range");
@@ -223,6 +238,9 @@ void ElasticModel::update_cells(
     for (Index c : todo) {
         const std::size_t k = std::size_t(c);
         topology |= m_cells[k].nodes != m_mesh->cells[k].nodes;
+        touch(m_cells[k].nodes); // before and after the cut
+        touch(m_mesh->cells[k].nodes);
+        old_cell[k] = kNone;
         // A child of a split starts from its parent's rotation (warm start of the polar
         // decomposition); changed cells keep theirs.
         const Index parent = m_mesh->cells[k].parent;
@@ -233,7 +251,7 @@ void ElasticModel::update_cells(
         compute_cell(c);
     }
     if (topology)
-        rebuild_pattern();
+        build_pattern(std::move(affected), std::move(old_cell));
     rebuild_mass();
 }
 

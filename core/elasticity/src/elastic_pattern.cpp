@@ -1,6 +1,8 @@
-// ElasticModel::rebuild_pattern: the DOF numbering, the CSC pattern of the reduced stiffness and
-// the cells' scatter maps into it, built per node (a cut rebuilds them, so this must cost
-// milliseconds on an organ).
+// ElasticModel's pattern: the DOF numbering, the CSC pattern of the reduced stiffness and the
+// cells' scatter maps into it, built per node. After a cut only the nodes whose cells changed
+// get new neighbour lists and columns, only the cells around them new scatter maps; the rest is
+// copied with its value slots shifted (issue 12 item 5: the cut's cost follows what it touched;
+// a full build of the 5k-node organ cost ~20 ms per cut).
 #include "polycut/elasticity/elastic_model.hpp"
 
 #include <algorithm>
@@ -11,38 +13,76 @@
 namespace polycut::elasticity {
 
 void ElasticModel::rebuild_pattern() {
-    const std::size_t ndof = 3 * std::size_t(m_mesh->num_nodes());
+    build_pattern({}, {});
+}
+
+void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> old_cell) {
+    const std::size_t nn = std::size_t(m_mesh->num_nodes());
+    const std::size_t n_cells = m_cells.size();
+    const std::size_t n_old = m_nb_offset.empty() ? 0 : m_nb_offset.size() - 1;
     // DOFs of nodes that no cell uses are eliminated too (they would be singular).
-    std::vector<std::uint8_t> used(std::size_t(m_mesh->num_nodes()), 0);
+    std::vector<std::uint8_t> used(nn, 0);
     for (const CellData& cd : m_cells)
         for (Index i : cd.nodes)
             used[std::size_t(i)] = 1;
-    m_dof_map.assign(ndof, kNone);
+    // Incremental when node ids were kept (appended nodes count as affected) and the fixed DOFs
+    // of the old nodes too (update_cells() keeps their mask): an unaffected node then has the
+    // same cells, neighbours and free axes as before.
+    const bool incremental = affected.size() == nn && old_cell.size() == n_cells && n_old <= nn
+        && m_dof_map.size() == 3 * n_old;
+    for (std::size_t j = n_old; incremental && j < nn; ++j)
+        affected[j] = 1;
+    if (!incremental) {
+        affected.assign(nn, 1);
+        old_cell.assign(n_cells, kNone);
+    }
+    const std::vector<std::size_t> old_nb_offset = std::move(m_nb_offset);
+    const std::vector<Index> old_nb_nodes = std::move(m_nb_nodes);
+    const std::vector<int> old_nb_start = std::move(m_nb_start);
+    const std::vector<int> old_outer = std::move(m_outer);
+    const std::vector<int> old_inner = std::move(m_inner);
+    const std::vector<Index> old_diag = std::move(m_diag_slots);
+    const std::vector<int> old_block = std::move(m_block_scatter);
+    const std::vector<std::size_t> old_scatter_offset = std::move(m_scatter_offset);
+    const std::vector<int> old_scatter = std::move(m_scatter);
+    const std::vector<Index> old_dof_map = std::move(m_dof_map);
+    const Index old_num_free = m_num_free;
+
+    // DOF numbering. A node a cut left without cells (a crack-front node taken out of the faces)
+    // loses its DOFs and the later ones move down: new_of_old maps the old reduced DOFs.
+    m_dof_map.assign(3 * nn, kNone);
     m_free_dofs.clear();
-    for (std::size_t k = 0; k < ndof; ++k)
+    for (std::size_t k = 0; k < 3 * nn; ++k)
         if (!m_fixed[k] && used[k / 3]) {
             m_dof_map[k] = Index(m_free_dofs.size());
             m_free_dofs.push_back(Index(k));
         }
     m_num_free = Index(m_free_dofs.size());
+    std::vector<Index> new_of_old;
+    bool same_numbering = true;
+    if (incremental) {
+        new_of_old.assign(std::size_t(old_num_free), kNone);
+        for (std::size_t k = 0; k < old_dof_map.size(); ++k)
+            if (const Index r = old_dof_map[k]; r != kNone) {
+                new_of_old[std::size_t(r)] = m_dof_map[k];
+                same_numbering = same_numbering && m_dof_map[k] == r;
+            }
+    }
 
-    // The pattern is built per node, not per DOF: the rows of the three columns of node j are
-    // the free DOFs of the nodes sharing a cell with j (its neighbours, j included), in node
-    // order, which is DOF order. A cut rebuilds it, so it must cost a few milliseconds on an
-    // organ, not the ~100 ms of sorting 144 entries per tet into per-DOF columns.
-    const std::size_t nn = std::size_t(m_mesh->num_nodes());
-    std::vector<std::size_t> cell_offset(nn + 1, 0); // node -> cells, CSR
+    // Cells of the affected nodes (CSR).
+    std::vector<std::size_t> cell_offset(nn + 1, 0);
     for (const CellData& cd : m_cells)
         for (Index i : cd.nodes)
-            ++cell_offset[std::size_t(i) + 1];
+            if (affected[std::size_t(i)])
+                ++cell_offset[std::size_t(i) + 1];
     std::partial_sum(cell_offset.begin(), cell_offset.end(), cell_offset.begin());
     std::vector<Index> cells_of(cell_offset[nn]);
     {
-        std::vector<std::size_t> fill(nn);
-        std::copy_n(cell_offset.begin(), nn, fill.begin());
-        for (std::size_t c = 0; c < m_cells.size(); ++c)
+        std::vector<std::size_t> fill(cell_offset.begin(), cell_offset.end() - 1);
+        for (std::size_t c = 0; c < n_cells; ++c)
             for (Index i : m_cells[c].nodes)
-                cells_of[fill[std::size_t(i)]++] = Index(c);
+                if (affected[std::size_t(i)])
+                    cells_of[fill[std::size_t(i)]++] = Index(c);
     }
     // Free axes of each node: count, and the rank of each free axis among them.
     std::vector<std::uint8_t> free_count(nn, 0);
@@ -52,41 +92,66 @@ void ElasticModel::rebuild_pattern() {
             axis_rank[i][a] = free_count[i];
             free_count[i] += m_dof_map[3 * i + a] != kNone ? 1 : 0;
         }
-    // Neighbours of each node (sorted, unique) and where each one's rows start in its columns.
+    // Neighbours of each node (sorted, unique; the node itself included) and where each one's
+    // rows start in the node's columns. The rows of the three columns of node j are the free
+    // DOFs of its neighbours, in node order, which is DOF order.
     m_nb_offset.assign(nn + 1, 0);
     m_nb_nodes.clear();
+    m_nb_nodes.reserve(old_nb_nodes.size() + 64 * (nn > n_old ? nn - n_old : 0));
     m_nb_start.clear();
-    m_nb_length.assign(nn, 0);
+    m_nb_start.reserve(m_nb_nodes.capacity());
+    m_nb_length.resize(nn, 0);
     std::vector<Index> buffer;
     std::vector<std::size_t> stamp(nn, std::numeric_limits<std::size_t>::max());
     for (std::size_t j = 0; j < nn; ++j) {
-        buffer.clear();
-        for (std::size_t k = cell_offset[j]; k < cell_offset[j + 1]; ++k)
-            for (Index i : m_cells[std::size_t(cells_of[k])].nodes)
-                if (stamp[std::size_t(i)] != j) {
-                    stamp[std::size_t(i)] = j;
-                    buffer.push_back(i);
-                }
-        std::sort(buffer.begin(), buffer.end());
-        int start = 0;
-        for (Index i : buffer) {
-            m_nb_nodes.push_back(i);
-            m_nb_start.push_back(start);
-            start += free_count[std::size_t(i)];
+        if (!affected[j]) {
+            const auto b = std::ptrdiff_t(old_nb_offset[j]),
+                       e = std::ptrdiff_t(old_nb_offset[j + 1]);
+            m_nb_nodes.insert(m_nb_nodes.end(), old_nb_nodes.begin() + b, old_nb_nodes.begin() + e);
+            m_nb_start.insert(m_nb_start.end(), old_nb_start.begin() + b, old_nb_start.begin() + e);
+        } else {
+            buffer.clear();
+            for (std::size_t k = cell_offset[j]; k < cell_offset[j + 1]; ++k)
+                for (Index i : m_cells[std::size_t(cells_of[k])].nodes)
+                    if (stamp[std::size_t(i)] != j) {
+                        stamp[std::size_t(i)] = j;
+                        buffer.push_back(i);
+                    }
+            std::sort(buffer.begin(), buffer.end());
+            int start = 0;
+            for (Index i : buffer) {
+                m_nb_nodes.push_back(i);
+                m_nb_start.push_back(start);
+                start += free_count[std::size_t(i)];
+            }
+            m_nb_length[j] = start;
         }
-        m_nb_length[j] = start;
         m_nb_offset[j + 1] = m_nb_nodes.size();
     }
+    // Columns: an unaffected node's are copied and its value slots shift by delta[j].
     m_outer.assign(std::size_t(m_num_free) + 1, 0);
     for (Index c = 0; c < m_num_free; ++c)
         m_outer[std::size_t(c) + 1]
             = m_outer[std::size_t(c)] + m_nb_length[std::size_t(m_free_dofs[std::size_t(c)]) / 3];
     m_inner.resize(std::size_t(m_outer[std::size_t(m_num_free)]));
+    std::vector<int> delta(nn, 0);
     for (Index c = 0; c < m_num_free; ++c) {
-        const std::size_t j = std::size_t(m_free_dofs[std::size_t(c)]) / 3;
+        const std::size_t k = std::size_t(m_free_dofs[std::size_t(c)]), j = k / 3;
         int* out = m_inner.data() + m_outer[std::size_t(c)];
-        for (std::size_t k = m_nb_offset[j]; k < m_nb_offset[j + 1]; ++k) {
-            const std::size_t i = std::size_t(m_nb_nodes[k]);
+        if (!affected[j]) {
+            const std::size_t o = std::size_t(old_dof_map[k]); // the same column before
+            delta[j] = m_outer[std::size_t(c)] - old_outer[o];
+            const auto from = old_inner.begin() + old_outer[o],
+                       to = old_inner.begin() + old_outer[o + 1];
+            if (same_numbering)
+                std::copy(from, to, out);
+            else
+                std::transform(
+                    from, to, out, [&](int r) { return int(new_of_old[std::size_t(r)]); });
+            continue;
+        }
+        for (std::size_t q = m_nb_offset[j]; q < m_nb_offset[j + 1]; ++q) {
+            const std::size_t i = std::size_t(m_nb_nodes[q]);
             for (std::size_t a = 0; a < 3; ++a)
                 if (const Index r = m_dof_map[3 * i + a]; r != kNone)
                     *out++ = int(r);
@@ -102,23 +167,40 @@ void ElasticModel::rebuild_pattern() {
     m_diag_slots.resize(std::size_t(m_num_free));
     for (Index r = 0; r < m_num_free; ++r) {
         const std::size_t k = std::size_t(m_free_dofs[std::size_t(r)]), i = k / 3;
-        m_diag_slots[std::size_t(r)]
-            = m_outer[std::size_t(r)] + row_offset(i, i) + axis_rank[i][k % 3];
+        m_diag_slots[std::size_t(r)] = !affected[i]
+            ? old_diag[std::size_t(old_dof_map[k])] + delta[i]
+            : m_outer[std::size_t(r)] + row_offset(i, i) + axis_rank[i][k % 3];
+    }
+    // A cell's maps are copied (slots shifted by their column node's delta) when it is the same
+    // cell as before (old_cell) and none of its nodes is affected; else built.
+    std::vector<Index> reuse(n_cells, kNone);
+    for (std::size_t c = 0; c < n_cells; ++c) {
+        const auto& nodes = m_cells[c].nodes;
+        if (old_cell[c] != kNone && std::none_of(nodes.begin(), nodes.end(), [&](Index i) {
+                return affected[std::size_t(i)] != 0;
+            }))
+            reuse[c] = old_cell[c];
     }
     // Compact scatter of the P1 tets whose 12 DOFs are free (the batched kernel's fast path):
     // block (i, j) lies at slot(3i, 3j) + b L_j + a (a node's rows are consecutive in a column,
     // its three columns share their rows; L_j is the column length of node j).
-    const auto all_free = [&](std::size_t i) { return free_count[i] == 3; };
-    std::vector<char> compact(m_cells.size(), 0);
-    m_block_scatter.assign(20 * m_cells.size(), -1);
-    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+    const auto all_free = [&](Index i) { return free_count[std::size_t(i)] == 3; };
+    std::vector<char> compact(n_cells, 0);
+    m_block_scatter.assign(20 * n_cells, -1);
+    for (std::size_t c = 0; c < n_cells; ++c) {
         const auto& nodes = m_cells[c].nodes;
         if (nodes.size() != 4 || !m_p1[c].valid
-            || !std::all_of(
-                nodes.begin(), nodes.end(), [&](Index i) { return all_free(std::size_t(i)); }))
+            || !std::all_of(nodes.begin(), nodes.end(), all_free))
             continue;
         compact[c] = 1;
         int* blk = m_block_scatter.data() + 20 * c;
+        if (const Index o = reuse[c]; o != kNone) {
+            const int* from = old_block.data() + 20 * std::size_t(o);
+            for (std::size_t e = 0; e < 16; ++e)
+                blk[e] = from[e] + delta[std::size_t(nodes[e % 4])];
+            std::copy(from + 16, from + 20, blk + 16);
+            continue;
+        }
         for (std::size_t j = 0; j < 4; ++j) {
             const std::size_t nj = std::size_t(nodes[j]);
             blk[16 + j] = m_nb_length[nj];
@@ -129,34 +211,33 @@ void ElasticModel::rebuild_pattern() {
     }
     // Full scatter of the other cells: entry (row 3i+a, col 3j+b) of the cell matrix -> value
     // slot (-1: a fixed DOF).
-    m_scatter_offset.assign(m_cells.size() + 1, 0);
-    for (std::size_t c = 0; c < m_cells.size(); ++c) {
+    m_scatter_offset.assign(n_cells + 1, 0);
+    for (std::size_t c = 0; c < n_cells; ++c) {
         const std::size_t d = compact[c] ? 0 : 3 * m_cells[c].nodes.size();
         m_scatter_offset[c + 1] = m_scatter_offset[c] + d * d;
     }
-    m_scatter.assign(m_scatter_offset[m_cells.size()], -1);
-    // Column by column of node j: the rows' offsets of j's neighbours from a position map, then
-    // every cell of j fills the block column of j (no search per node pair).
-    std::vector<int> offset_of(nn, -1);
-    for (std::size_t j = 0; j < nn; ++j) {
-        if (free_count[j] == 0)
+    m_scatter.assign(m_scatter_offset[n_cells], -1);
+    for (std::size_t c = 0; c < n_cells; ++c) {
+        if (compact[c])
             continue;
-        for (std::size_t k = m_nb_offset[j]; k < m_nb_offset[j + 1]; ++k)
-            offset_of[std::size_t(m_nb_nodes[k])] = m_nb_start[k];
-        for (std::size_t k = cell_offset[j]; k < cell_offset[j + 1]; ++k) {
-            const std::size_t c = std::size_t(cells_of[k]);
-            if (compact[c])
+        const auto& nodes = m_cells[c].nodes;
+        const std::size_t n = nodes.size(), d = 3 * n;
+        int* sc = m_scatter.data() + m_scatter_offset[c];
+        if (const Index o = reuse[c]; o != kNone) {
+            const int* from = old_scatter.data() + old_scatter_offset[std::size_t(o)];
+            for (std::size_t e = 0; e < d * d; ++e)
+                sc[e] = from[e] < 0 ? from[e] : from[e] + delta[std::size_t(nodes[(e % d) / 3])];
+            continue;
+        }
+        for (std::size_t q = 0; q < n; ++q) {
+            const std::size_t j = std::size_t(nodes[q]);
+            if (free_count[j] == 0)
                 continue;
-            const auto& nodes = m_cells[c].nodes;
-            const std::size_t n = nodes.size(), d = 3 * n;
-            const std::size_t q
-                = std::size_t(std::find(nodes.begin(), nodes.end(), Index(j)) - nodes.begin());
-            int* sc = m_scatter.data() + m_scatter_offset[c];
             for (std::size_t p = 0; p < n; ++p) {
                 const std::size_t i = std::size_t(nodes[p]);
                 if (free_count[i] == 0)
                     continue;
-                const int off = offset_of[i];
+                const int off = row_offset(i, j);
                 for (std::size_t b = 0; b < 3; ++b) {
                     const Index col = m_dof_map[3 * j + b];
                     if (col == kNone)
@@ -169,12 +250,14 @@ void ElasticModel::rebuild_pattern() {
             }
         }
     }
-    m_node_offset.assign(m_cells.size() + 1, 0);
-    m_node_list.clear();
-    for (std::size_t c = 0; c < m_cells.size(); ++c) {
-        m_node_list.insert(m_node_list.end(), m_cells[c].nodes.begin(), m_cells[c].nodes.end());
-        m_node_offset[c + 1] = m_node_list.size();
-    }
+    m_node_offset.assign(n_cells + 1, 0);
+    m_node_list.resize(0);
+    for (std::size_t c = 0; c < n_cells; ++c)
+        m_node_offset[c + 1] = m_node_offset[c] + m_cells[c].nodes.size();
+    m_node_list.resize(m_node_offset[n_cells]);
+    for (std::size_t c = 0; c < n_cells; ++c)
+        std::copy(m_cells[c].nodes.begin(), m_cells[c].nodes.end(),
+            m_node_list.begin() + std::ptrdiff_t(m_node_offset[c]));
     rebuild_partition();
     ++m_topology_version;
 }

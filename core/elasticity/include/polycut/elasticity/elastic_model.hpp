@@ -139,6 +139,13 @@ private:
     void compute_cell(Index c);
     void rebuild_mass();
     void rebuild_pattern();
+    /// The pattern after a cut: `affected` (#nodes) marks the nodes whose set of cells changed
+    /// (nodes appended since the last build count as affected), `old_cell` (#cells) maps each cell
+    /// to its id at the last build when it is the same cell (kNone: new or changed). Only the
+    /// affected nodes' columns and the cells touching them are built; the rest is copied with
+    /// shifted value slots. Empty arguments, or old nodes whose DOFs would be renumbered: a full
+    /// build.
+    void build_pattern(std::vector<char> affected, std::vector<Index> old_cell);
     void rebuild_partition();
     /// Assembles the listed cells (in order) into Kvals / fint (either may be null).
     void assemble_cells(const std::vector<Index>& cells, const MatX3& x, bool corotated,
