@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <span>
 
 namespace polycut::elasticity {
 namespace {
@@ -285,6 +286,8 @@ void ElasticModel::set_threads(int threads) {
 
 void ElasticModel::rebuild_partition() {
     const std::size_t count = m_cells.size();
+    if (m_node_offset.size() != count + 1)
+        throw StateError("ElasticModel::rebuild_partition", "the pattern is not built");
     const int T = std::max(m_threads, 1);
     m_thread_cells.assign(std::size_t(T), {});
     m_shared_cells.clear();
@@ -293,15 +296,20 @@ void ElasticModel::rebuild_partition() {
         std::iota(m_thread_cells[0].begin(), m_thread_cells[0].end(), Index(0));
         return;
     }
+    // The flat cell -> nodes arrays of the pattern (the scattered CellData would cost a cache
+    // miss per cell).
+    const auto cell_nodes = [&](std::size_t c) {
+        return std::span<const Index>(
+            m_node_list.data() + m_node_offset[c], m_node_offset[c + 1] - m_node_offset[c]);
+    };
     Index nodes = 0;
-    for (const CellData& cd : m_cells)
-        for (Index i : cd.nodes)
-            nodes = std::max(nodes, i + 1);
+    for (Index i : m_node_list)
+        nodes = std::max(nodes, i + 1);
     // Node ranges [bound[t], bound[t + 1]) holding ~count / T cells each by their first node.
     std::vector<long> per_node(std::size_t(nodes) + 1, 0);
-    for (const CellData& cd : m_cells)
-        if (!cd.nodes.empty())
-            ++per_node[std::size_t(*std::min_element(cd.nodes.begin(), cd.nodes.end()))];
+    for (std::size_t c = 0; c < count; ++c)
+        if (const auto n = cell_nodes(c); !n.empty())
+            ++per_node[std::size_t(*std::min_element(n.begin(), n.end()))];
     std::vector<Index> bound(std::size_t(T) + 1, nodes);
     bound.front() = 0;
     long seen = 0;
@@ -315,7 +323,7 @@ void ElasticModel::rebuild_partition() {
         return int(std::upper_bound(bound.begin(), bound.end(), i) - bound.begin()) - 1;
     };
     for (std::size_t c = 0; c < count; ++c) {
-        const auto& n = m_cells[c].nodes;
+        const auto n = cell_nodes(c);
         if (n.empty())
             continue;
         const auto [lo, hi] = std::minmax_element(n.begin(), n.end());

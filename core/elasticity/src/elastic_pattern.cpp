@@ -9,6 +9,7 @@
 #include <array>
 #include <limits>
 #include <numeric>
+#include <span>
 
 namespace polycut::elasticity {
 
@@ -20,11 +21,36 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     const std::size_t nn = std::size_t(m_mesh->num_nodes());
     const std::size_t n_cells = m_cells.size();
     const std::size_t n_old = m_nb_offset.empty() ? 0 : m_nb_offset.size() - 1;
+    if (old_cell.size() != n_cells || m_node_offset.empty())
+        old_cell.assign(n_cells, kNone);
+    // The cells' nodes as one flat array (CSR): every pass below reads it, not the scattered
+    // CellData (a cache miss per cell on a 27k-cell organ); the same cells' copied.
+    const std::vector<std::size_t> old_node_offset = std::move(m_node_offset);
+    const std::vector<Index> old_node_list = std::move(m_node_list);
+    m_node_offset.assign(n_cells + 1, 0);
+    for (std::size_t c = 0; c < n_cells; ++c) {
+        const std::size_t o = std::size_t(old_cell[c]);
+        m_node_offset[c + 1] = m_node_offset[c]
+            + (old_cell[c] != kNone ? old_node_offset[o + 1] - old_node_offset[o]
+                                    : m_cells[c].nodes.size());
+    }
+    m_node_list.resize(m_node_offset[n_cells]);
+    for (std::size_t c = 0; c < n_cells; ++c) {
+        const auto to = m_node_list.begin() + std::ptrdiff_t(m_node_offset[c]);
+        if (const Index o = old_cell[c]; o != kNone)
+            std::copy(old_node_list.begin() + std::ptrdiff_t(old_node_offset[std::size_t(o)]),
+                old_node_list.begin() + std::ptrdiff_t(old_node_offset[std::size_t(o) + 1]), to);
+        else
+            std::copy(m_cells[c].nodes.begin(), m_cells[c].nodes.end(), to);
+    }
+    const auto cell_nodes = [&](std::size_t c) {
+        return std::span<const Index>(
+            m_node_list.data() + m_node_offset[c], m_node_offset[c + 1] - m_node_offset[c]);
+    };
     // DOFs of nodes that no cell uses are eliminated too (they would be singular).
     std::vector<std::uint8_t> used(nn, 0);
-    for (const CellData& cd : m_cells)
-        for (Index i : cd.nodes)
-            used[std::size_t(i)] = 1;
+    for (Index i : m_node_list)
+        used[std::size_t(i)] = 1;
     // Incremental when node ids were kept (appended nodes count as affected) and the fixed DOFs
     // of the old nodes too (update_cells() keeps their mask): an unaffected node then has the
     // same cells, neighbours and free axes as before.
@@ -71,16 +97,15 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
 
     // Cells of the affected nodes (CSR).
     std::vector<std::size_t> cell_offset(nn + 1, 0);
-    for (const CellData& cd : m_cells)
-        for (Index i : cd.nodes)
-            if (affected[std::size_t(i)])
-                ++cell_offset[std::size_t(i) + 1];
+    for (Index i : m_node_list)
+        if (affected[std::size_t(i)])
+            ++cell_offset[std::size_t(i) + 1];
     std::partial_sum(cell_offset.begin(), cell_offset.end(), cell_offset.begin());
     std::vector<Index> cells_of(cell_offset[nn]);
     {
         std::vector<std::size_t> fill(cell_offset.begin(), cell_offset.end() - 1);
         for (std::size_t c = 0; c < n_cells; ++c)
-            for (Index i : m_cells[c].nodes)
+            for (Index i : cell_nodes(c))
                 if (affected[std::size_t(i)])
                     cells_of[fill[std::size_t(i)]++] = Index(c);
     }
@@ -112,7 +137,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         } else {
             buffer.clear();
             for (std::size_t k = cell_offset[j]; k < cell_offset[j + 1]; ++k)
-                for (Index i : m_cells[std::size_t(cells_of[k])].nodes)
+                for (Index i : cell_nodes(std::size_t(cells_of[k])))
                     if (stamp[std::size_t(i)] != j) {
                         stamp[std::size_t(i)] = j;
                         buffer.push_back(i);
@@ -175,7 +200,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     // cell as before (old_cell) and none of its nodes is affected; else built.
     std::vector<Index> reuse(n_cells, kNone);
     for (std::size_t c = 0; c < n_cells; ++c) {
-        const auto& nodes = m_cells[c].nodes;
+        const auto nodes = cell_nodes(c);
         if (old_cell[c] != kNone && std::none_of(nodes.begin(), nodes.end(), [&](Index i) {
                 return affected[std::size_t(i)] != 0;
             }))
@@ -188,7 +213,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     std::vector<char> compact(n_cells, 0);
     m_block_scatter.assign(20 * n_cells, -1);
     for (std::size_t c = 0; c < n_cells; ++c) {
-        const auto& nodes = m_cells[c].nodes;
+        const auto nodes = cell_nodes(c);
         if (nodes.size() != 4 || !m_p1[c].valid
             || !std::all_of(nodes.begin(), nodes.end(), all_free))
             continue;
@@ -213,14 +238,14 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     // slot (-1: a fixed DOF).
     m_scatter_offset.assign(n_cells + 1, 0);
     for (std::size_t c = 0; c < n_cells; ++c) {
-        const std::size_t d = compact[c] ? 0 : 3 * m_cells[c].nodes.size();
+        const std::size_t d = compact[c] ? 0 : 3 * cell_nodes(c).size();
         m_scatter_offset[c + 1] = m_scatter_offset[c] + d * d;
     }
     m_scatter.assign(m_scatter_offset[n_cells], -1);
     for (std::size_t c = 0; c < n_cells; ++c) {
         if (compact[c])
             continue;
-        const auto& nodes = m_cells[c].nodes;
+        const auto nodes = cell_nodes(c);
         const std::size_t n = nodes.size(), d = 3 * n;
         int* sc = m_scatter.data() + m_scatter_offset[c];
         if (const Index o = reuse[c]; o != kNone) {
@@ -250,14 +275,6 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
             }
         }
     }
-    m_node_offset.assign(n_cells + 1, 0);
-    m_node_list.resize(0);
-    for (std::size_t c = 0; c < n_cells; ++c)
-        m_node_offset[c + 1] = m_node_offset[c] + m_cells[c].nodes.size();
-    m_node_list.resize(m_node_offset[n_cells]);
-    for (std::size_t c = 0; c < n_cells; ++c)
-        std::copy(m_cells[c].nodes.begin(), m_cells[c].nodes.end(),
-            m_node_list.begin() + std::ptrdiff_t(m_node_offset[c]));
     rebuild_partition();
     ++m_topology_version;
 }
