@@ -541,3 +541,40 @@ TEST(Amg, HierarchyCarriedOverARenumberingSolvesWithoutASetUp) {
     // 27 iterations; the same hierarchy with its rows left at their old numbers needs 37
     EXPECT_LE(r.iterations, 30);
 }
+
+TEST(Amg, BackgroundSetUpIsInstalledExactlyKSolvesLaterAndRepeatsBitForBit) {
+    // AmgOptions::background_solves = 3 with a set-up asked for every 2 solves: the first
+    // set-up is in the foreground (no hierarchy yet); the next is asked for at solve 3, runs on
+    // a worker thread while the old hierarchy preconditions solves 3-5, and is installed at
+    // solve 6, never earlier or later (a fixed hand-over: a replay solves the same).
+    const BoxSystem s = box_system(6);
+    const double h = 0.01, beta = 0.01;
+    auto run = [&](std::vector<Vector>& xs, std::vector<bool>& installed) {
+        PcgOptions o = amg_options(1e-8);
+        o.refactor_every = 2;
+        o.amg.background_solves = 3;
+        PcgSolver pcg(o);
+        const Vector b = random_vector(s.K.rows(), 5);
+        for (int k = 1; k <= 8; ++k) {
+            SparseMatrix A = ((1 + 0.1 * k) * (h * h + h * beta)) * s.K; // a stiffening body
+            A.diagonal() += s.mass;
+            Vector x;
+            const PcgResult r = pcg.solve(A, b, x);
+            ASSERT_EQ(r.status, SolveStatus::Ok) << "solve " << k;
+            EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-9)) << "solve " << k;
+            xs.push_back(x);
+            installed.push_back(r.refactored);
+        }
+    };
+    std::vector<Vector> xs1, xs2;
+    std::vector<bool> in1, in2;
+    run(xs1, in1);
+    run(xs2, in2);
+    // solve:                       1     2      3      4      5      6     7      8
+    const std::vector<bool> want { true, false, false, false, false, true, false, false };
+    EXPECT_EQ(in1, want);
+    EXPECT_EQ(in2, want);
+    ASSERT_EQ(xs1.size(), xs2.size());
+    for (std::size_t k = 0; k < xs1.size(); ++k)
+        EXPECT_EQ((xs1[k] - xs2[k]).cwiseAbs().maxCoeff(), 0.0) << "solve " << k + 1;
+}

@@ -29,6 +29,25 @@ void Editor::rebuild() {
     m_changed_list.clear();
 }
 
+void Editor::renumber(const std::vector<Index>& cell_map) {
+    const std::size_t nc = m.cells.size();
+    std::vector<geometry::Aabb> bounds(nc);
+    std::vector<char> bounds_ok(nc, 0);
+    std::vector<double> thickness(nc, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t c = 0; c < std::min(cell_map.size(), m_bounds.size()); ++c)
+        if (const Index to = cell_map[c]; to != kNone && std::size_t(to) < nc) {
+            bounds[std::size_t(to)] = m_bounds[c];
+            bounds_ok[std::size_t(to)] = m_bounds_ok[c];
+            thickness[std::size_t(to)] = m_thickness[c];
+        }
+    m_bounds = std::move(bounds);
+    m_bounds_ok = std::move(bounds_ok);
+    m_thickness = std::move(thickness);
+    node_cells = m.node_cells();
+    m_changed.assign(nc, 0);
+    m_changed_list.clear();
+}
+
 void Editor::begin(CutReport& r) {
     report = &r;
     r = CutReport {};

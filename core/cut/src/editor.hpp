@@ -57,6 +57,11 @@ public:
     void refresh_cell_nodes(Index c);
     /// Marks cell c changed (invalidates caches).
     void touch(Index c);
+    /// After cells were removed and renumbered (cell_map: old id -> new id or kNone): the
+    /// per-cell caches move to the new ids (a full rebuild() would recompute every cell's
+    /// bounds and thickness in the next scan, O(mesh) per cut), the adjacency is rebuilt and
+    /// the change list restarts.
+    void renumber(const std::vector<Index>& cell_map);
 
     /// Cells changed since begin(), in order of first change (grows while iterating).
     const std::vector<Index>& changed_cells() const { return m_changed_list; }

@@ -212,8 +212,8 @@ void merge_slivers(Editor& ed) {
     for (Index c : touched)
         if (const Index d = map_cell(c); d != kNone)
             changed.push_back(d);
-    // The adjacency and caches refer to old ids: rebuild them, then mark the changed cells.
-    ed.rebuild();
+    // The adjacency and caches refer to old ids: renumber them, then mark the changed cells.
+    ed.renumber(cell_map);
     for (Index c : changed)
         ed.touch(c);
 }

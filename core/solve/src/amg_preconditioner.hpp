@@ -42,6 +42,8 @@ public:
     const std::string& error() const;
     /// Drops the hierarchy.
     void clear();
+    /// Exchanges the hierarchies (and settings) of two preconditioners.
+    void swap(AmgPreconditioner& other) noexcept { m_impl.swap(other.m_impl); }
     /// Keeps the hierarchy for a matrix whose unknowns a cut renumbered (row r was old_of[r],
     /// -1 new): see AmgCycle::remap. False (hierarchy unchanged) when not possible (hypre's own
     /// cycle, no coarse level): set up again then.

@@ -13,6 +13,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,11 @@ struct PcgSolver::Impl {
     // Amg: BoomerAMG hierarchy of an earlier matrix, lagged like the CHOLMOD factor
     detail::AmgPreconditioner amg;
     std::string setup_error;
+    // Amg with background_solves > 0: the hierarchy being set up on a worker thread, the solves
+    // left until it is installed (-1: none under way), and the coordinates of the rigid modes.
+    std::future<std::unique_ptr<detail::AmgPreconditioner>> amg_job;
+    int amg_handover = -1;
+    Vector amg_coordinates;
 
     explicit Impl(PcgOptions o)
         : options(o)
@@ -237,8 +243,48 @@ struct PcgSolver::Impl {
         mark_refactored();
     }
 
+    /// Waits for a background set-up under way and drops it (hypre is used by one thread at a
+    /// time, and a foreground set-up supersedes it).
+    void drop_amg_job() {
+        if (amg_job.valid())
+            amg_job.get();
+        amg_handover = -1;
+    }
+
+    /// Starts a set-up of A on a worker thread (A and the coordinates are copied).
+    void start_amg_job(const SparseMatrix& A) {
+        drop_amg_job();
+        ++refactorizations;
+        amg_job = std::async(std::launch::async,
+            [A = SparseMatrix(A), coordinates = amg_coordinates, o = options.amg] {
+                auto fresh = std::make_unique<detail::AmgPreconditioner>(o);
+                if (coordinates.size() == A.rows())
+                    fresh->set_coordinates(coordinates);
+                if (fresh->setup(A) != SolveStatus::Ok)
+                    fresh.reset();
+                return fresh;
+            });
+        amg_handover = options.amg.background_solves;
+        solves_since_refactor = 0;
+        refactor_requested = false;
+    }
+
+    /// The hand-over of a background set-up: installs it when it fits A (a cut since it started
+    /// changed the size: dropped, the carried-over hierarchy goes on).
+    void finish_amg_job(const SparseMatrix& A) {
+        std::unique_ptr<detail::AmgPreconditioner> fresh = amg_job.get();
+        amg_handover = -1;
+        if (!fresh || fresh->size() != A.rows())
+            return;
+        fresh->set_threads(options.threads);
+        amg.swap(*fresh);
+        mark_refactored();
+        installed = true;
+    }
+
     /// (Re)builds the AMG hierarchy from A.
     SolveStatus setup_amg(const SparseMatrix& A) {
+        drop_amg_job();
         ++refactorizations;
         const SolveStatus s = amg.setup(A);
         setup_error = s == SolveStatus::NotReady ? amg.error() : std::string();
@@ -291,12 +337,21 @@ struct PcgSolver::Impl {
             }
         }
         if (use == Preconditioner::Amg) {
-            const bool due = amg.size() != A.rows()
+            if (amg_handover == 0)
+                finish_amg_job(A);
+            const bool missing = amg.size() != A.rows();
+            const bool due = missing
                 || (options.refactor_every > 0 && solves_since_refactor >= options.refactor_every)
                 || refactor_requested;
-            if (due)
+            if (due && !missing && options.amg.background_solves > 0) {
+                if (amg_handover < 0)
+                    start_amg_job(A);
+            } else if (due) {
                 if (const SolveStatus s = setup_amg(A); s != SolveStatus::Ok)
                     return s;
+            }
+            if (amg_handover > 0)
+                --amg_handover;
         }
         result.used = use;
         switch (use) {
@@ -325,6 +380,7 @@ void PcgSolver::reset() {
     m_impl->factor = CholmodSolver {};
     m_impl->amg.clear();
     m_impl->ic_size = -1;
+    m_impl->drop_amg_job();
     m_impl->solves_since_refactor = 0;
     m_impl->refactor_requested = false;
     m_impl->fresh_iterations = -1;
@@ -415,8 +471,10 @@ void PcgSolver::finish_background_refactor() {
 
 void PcgSolver::set_coordinates(const Vector& coordinates) {
     if (m_impl->options.preconditioner == Preconditioner::Amg
-        && m_impl->options.amg.rigid_body_modes)
+        && m_impl->options.amg.rigid_body_modes) {
         m_impl->amg.set_coordinates(coordinates);
+        m_impl->amg_coordinates = coordinates;
+    }
 }
 
 bool PcgSolver::remap_preconditioner(const std::vector<long>& old_of) {

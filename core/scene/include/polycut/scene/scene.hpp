@@ -111,6 +111,9 @@ struct Solver {
     int amg_aggressive_levels = 1; ///< levels coarsened aggressively
     int amg_interpolation_max_elements = 4; ///< interpolation entries per row (0 = all)
     bool amg_rigid_body_modes = false; ///< interpolate the rigid rotations too (GM-2)
+    /// solves between starting a requested set-up on a worker thread and installing it (0 = set
+    /// up in the foreground, blocking that step)
+    int amg_background_solves = 8;
 };
 
 /// Selects nodes by rest position.

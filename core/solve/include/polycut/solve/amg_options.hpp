@@ -50,6 +50,13 @@ struct AmgOptions {
     /// matrix instead of the set-up's. Only with GaussSeidel, one sweep, no cf_order (else
     /// hypre's cycle runs).
     bool fused_cycle = true;
+    /// A set-up that the lagged rule asks for (PcgOptions::refactor_iterations) runs on a worker
+    /// thread and is installed exactly this many solves later, waiting for it if it is late (a
+    /// fixed hand-over, so a replayed command log solves the same); the old hierarchy, carried
+    /// over cuts, preconditions the solves in between. 0: set up inside the solve that asks
+    /// (blocking it: ~100 ms on a 5k-node organ). The first set-up, and one after a size change
+    /// that could not be carried over, is always in the foreground.
+    int background_solves = 0;
 };
 
 } // namespace polycut::solve
