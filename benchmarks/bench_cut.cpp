@@ -19,6 +19,7 @@
 //   ticks_over_16_7, ticks_over_50                 ticks above the 60 Hz budget / the 50 ms bound
 //   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
 //   undo_reasons                                   the warnings of the first undone cuts
+// With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (CPU ms, cells, its).
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/scene/scene.hpp"
@@ -26,6 +27,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -141,6 +143,9 @@ json run(const std::string& path, const Args& a) {
         const sim::StepReport r = s.step();
         const double total = tick.ms();
         cut_cpu.push_back(cpu_cut);
+        if (std::getenv("BENCH_CUT_TRACE"))
+            std::fprintf(stderr, "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d\n", k,
+                cpu_cut, cpu_ms() - cpu0, long(s.cell_count()), r.solver_iterations);
         tick_cpu.push_back(cpu_ms() - cpu0);
         undone += r.cut_undone ? 1 : 0;
         if (r.cut_undone && reasons.size() < 3 && !r.warnings.empty())
