@@ -82,6 +82,9 @@ async function main() {
     await until('the rest pose', async () => (await state()).tick === 0);
     await new Promise((r) => setTimeout(r, 300)); // a render after the frame
     const rest = await pixels();
+    if (process.env.POLYCUT_SCREENSHOT_DIR) {
+      await page.screenshot({ path: path.join(process.env.POLYCUT_SCREENSHOT_DIR, 'browser_rest.png') });
+    }
     check(rest.tissue > 0.02 * rest.width * rest.height, 'non-empty canvas',
       `${rest.tissue} of ${rest.width * rest.height} pixels show tissue`);
     await request('step', { ticks: 30 });
@@ -100,8 +103,16 @@ async function main() {
       return { min: b.min.toArray(), max: b.max.toArray() };
     });
     const screen = (p) => page.evaluate(([x, y, z]) => window.polycut.toScreen(x, y, z), p);
-    const topZ = bbox.max[2];
-    const tip = await screen([0.8 * bbox.max[0], 0, topZ]);
+    // The slab's top near its free end, wherever the sag put it: the first point down from the
+    // bounding box's top that the mouse would hit.
+    const tip = await page.evaluate(([x, zTop, zBottom]) => {
+      for (let k = 0; k <= 50; k++) {
+        const p = window.polycut.toScreen(x, 0, zTop - ((zTop - zBottom) * k) / 50);
+        if (window.polycut.view.pick(p.x, p.y)) return p;
+      }
+      return null;
+    }, [0.8 * bbox.max[0], bbox.max[2], bbox.min[2]]);
+    check(tip !== null, 'the slab\'s free end is under the mouse');
     await page.mouse.move(tip.x, tip.y);
     await page.mouse.down({ button: 'right' });
     for (let k = 1; k <= 5; k++) await page.mouse.move(tip.x, tip.y - 8 * k);
@@ -111,13 +122,21 @@ async function main() {
     const released = await until('the release', async () => (await request('get_stats')).grabs === 0, 5000).catch(() => false);
     check(released, 'releasing the button releases the grab (server: 0 grabs)');
 
-    // 4. Cut: a left drag across the slab at 60 % of its length, blade 40 mm deep.
-    await page.fill('#depth', '40');
+    // 4. Cut: seen from above, a left drag across the slab at 40 % of its length with the blade
+    //    15 mm deep into the 20 mm slab: the sagging cantilever's top is in tension, so the cut
+    //    opens and its faces show from above.
+    await page.fill('#depth', '15');
+    await page.evaluate(() => window.polycut.view.frame([0, -0.05, 1]));
+    await new Promise((r) => setTimeout(r, 300));
     const before = await request('get_stats');
-    const x = bbox.min[0] + 0.6 * (bbox.max[0] - bbox.min[0]);
-    const width = bbox.max[1] - bbox.min[1];
-    const from = await screen([x, bbox.min[1] + 0.1 * width, topZ]);
-    const to = await screen([x, bbox.max[1] + 0.3 * width, topZ]);
+    const top = await page.evaluate(() => {
+      const b = window.polycut.view.geometry.boundingBox;
+      return { min: b.min.toArray(), max: b.max.toArray() };
+    });
+    const x = top.min[0] + 0.4 * (top.max[0] - top.min[0]);
+    const width = top.max[1] - top.min[1];
+    const from = await screen([x, top.min[1] + 0.05 * width, top.max[2]]);
+    const to = await screen([x, top.max[1] + 0.3 * width, top.max[2]]);
     const onTissue = await page.evaluate(([px, py]) => !!window.polycut.view.pick(px, py), [from.x, from.y]);
     check(onTissue, 'the drag starts on the tissue');
     await page.mouse.move(from.x, from.y);
@@ -131,16 +150,27 @@ async function main() {
       const s = await request('get_stats');
       return s.topology_version > before.topology_version ? s : null;
     }, 10000).catch(() => null);
+    // Let the stroke finish (end_stroke, deferred triangles): the topology stops changing.
+    let settled = after ? after.topology_version : 0;
+    for (let quiet = 0; quiet < 5;) {
+      await new Promise((r) => setTimeout(r, 200));
+      const v = (await request('get_stats')).topology_version;
+      quiet = v === settled ? quiet + 1 : 0;
+      settled = v;
+    }
+    const final = await request('get_stats');
     check(after !== null, 'the drag changes the server\'s topology',
-      after ? `topology_version ${before.topology_version} -> ${after.topology_version}, ${before.triangle_count} -> ${after.triangle_count} triangles` : 'unchanged');
+      after ? `topology_version ${before.topology_version} -> ${final.topology_version}, ${before.triangle_count} -> ${final.triangle_count} triangles` : 'unchanged');
     const mirrored = await until('cut triangles in the mirror', async () => (await state()).cut_triangles > 0, 5000).catch(() => false);
     check(mirrored, 'the page\'s mirror holds cut triangles', JSON.stringify(await state()));
-    await page.evaluate(() => window.polycut.view.frame());
+    await page.evaluate(() => window.polycut.view.frame([0.35, -0.6, 1]));
     await new Promise((r) => setTimeout(r, 400));
     const cutPixels = await pixels();
-    check(cutPixels.cut > 50 && cutPixels.cut > 5 * rest.cut, 'cut-coloured pixels on the page',
+    check(cutPixels.cut > 200 && cutPixels.cut > 5 * rest.cut, 'cut-coloured pixels on the page',
       `${cutPixels.cut} (before the cut ${rest.cut})`);
-    await page.screenshot({ path: path.join(tmp, 'cut.png') });
+    if (process.env.POLYCUT_SCREENSHOT_DIR) {
+      await page.screenshot({ path: path.join(process.env.POLYCUT_SCREENSHOT_DIR, 'browser_cut.png') });
+    }
 
     // 5. Kill the server, start it again on the same endpoints: the page follows.
     server.child.kill('SIGKILL');
@@ -156,7 +186,9 @@ async function main() {
     const again = await pixels();
     check(again.tissue > 0.02 * again.width * again.height && again.cut < cutPixels.cut / 5,
       'the restarted server\'s uncut surface is shown', `${again.tissue} tissue, ${again.cut} cut pixels`);
-    if (process.env.POLYCUT_SCREENSHOT) await page.screenshot({ path: process.env.POLYCUT_SCREENSHOT });
+    if (process.env.POLYCUT_SCREENSHOT_DIR) {
+      await page.screenshot({ path: path.join(process.env.POLYCUT_SCREENSHOT_DIR, 'browser_restarted.png') });
+    }
   } catch (e) {
     check(false, 'the test ran to the end', e.message);
   } finally {

@@ -94,14 +94,16 @@ export class View {
     this.dirty = true;
   }
 
-  /** Points the camera at the surface (after a scene load). */
-  frame() {
+  /** Points the camera at the surface (after a scene load), looking from `direction` (a world
+   * vector from the surface's centre towards the camera). */
+  frame(direction = [0.9, -1.2, 0.9]) {
     const box = this.geometry.boundingBox;
     if (!box) return;
     const centre = box.getCenter(new THREE.Vector3());
     this.size = box.getSize(new THREE.Vector3()).length();
     this.controls.target.copy(centre);
-    this.camera.position.copy(centre).add(new THREE.Vector3(0.9, -1.2, 0.9).multiplyScalar(this.size));
+    const away = new THREE.Vector3(...direction).normalize().multiplyScalar(1.7 * this.size);
+    this.camera.position.copy(centre).add(away);
     this.camera.near = this.size * 0.01;
     this.camera.far = this.size * 100;
     this.camera.updateProjectionMatrix();
@@ -164,8 +166,8 @@ export class View {
     const ctx = c.getContext('2d');
     ctx.drawImage(src, 0, 0);
     const d = ctx.getImageData(0, 0, c.width, c.height).data;
-    const bg = new THREE.Color(BACKGROUND);
-    const [br, bgc, bb] = [bg.r * 255, bg.g * 255, bg.b * 255];
+    // The background's sRGB bytes (a THREE.Color would hold it in linear space).
+    const [br, bgc, bb] = [(BACKGROUND >> 16) & 255, (BACKGROUND >> 8) & 255, BACKGROUND & 255];
     let tissue = 0, cut = 0;
     const gw = 32, gh = 24, grid = new Float64Array(gw * gh), count = new Float64Array(gw * gh);
     for (let y = 0; y < c.height; y++) {
