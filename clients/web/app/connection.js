@@ -48,6 +48,7 @@ export class Connection {
     this.lastFrameAt = 0;
     this.resyncs = 0;
     this.latencyMs = null;
+    this.latencies = []; // the last 1000 command-to-visible latencies [ms]
     this.ready = false;
     this.open();
     setInterval(() => this.watchdog(), WATCHDOG_MS);
@@ -168,6 +169,8 @@ export class Connection {
       const sent = this.awaitingFrame.get(id);
       if (sent !== undefined) {
         this.latencyMs = this.lastFrameAt - sent;
+        this.latencies.push(this.latencyMs);
+        if (this.latencies.length > 1000) this.latencies.shift();
         this.awaitingFrame.delete(id);
       }
     }
