@@ -310,6 +310,10 @@ struct WebServer::Impl {
     void accept() {
         acceptor.async_accept(net::make_strand(io), [this](beast::error_code ec, tcp::socket s) {
             if (!ec) {
+                // Small messages (a request, a reply) must not wait for Nagle's algorithm and
+                // the peer's delayed ACK: without this a round trip took 40 ms more.
+                beast::error_code ignored;
+                s.set_option(tcp::no_delay(true), ignored);
                 std::make_shared<HttpSession>(std::move(s), options, context)->run();
             }
             if (acceptor.is_open()) {
