@@ -94,20 +94,29 @@ void send_pose(
 
 struct Session {
     std::unique_ptr<Subprocess> server, bridge;
-    std::string control;
+    std::string control, stream;
     int port = 0;
 };
 
-Session start(bool paused) {
-    Session s;
+/// polycut-server on `scene` (a file of assets/scenes), on free ports or the given endpoints.
+std::unique_ptr<Subprocess> start_server(const std::string& scene, bool paused,
+    const std::string& control = "tcp://127.0.0.1:*",
+    const std::string& stream = "tcp://127.0.0.1:*") {
     std::vector<std::string> args = { POLYCUT_SERVER_EXE, "--scene",
-        std::string(POLYCUT_SOURCE_DIR) + "/assets/scenes/default.json", "--control",
-        "tcp://127.0.0.1:*", "--stream", "tcp://127.0.0.1:*", "--quiet" };
+        std::string(POLYCUT_SOURCE_DIR) + "/assets/scenes/" + scene, "--control", control,
+        "--stream", stream, "--quiet" };
     if (paused) {
         args.push_back("--paused");
     }
-    s.server = std::make_unique<Subprocess>(args);
-    s.control = json::parse(s.server->read_line(60s).value()).at("control").get<std::string>();
+    return std::make_unique<Subprocess>(args);
+}
+
+Session start(bool paused) {
+    Session s;
+    s.server = start_server("default.json", paused);
+    const json ready = json::parse(s.server->read_line(60s).value());
+    s.control = ready.at("control").get<std::string>();
+    s.stream = ready.at("stream").get<std::string>();
     s.bridge = std::make_unique<Subprocess>(std::vector<std::string> { POLYCUT_IGTL_EXE, "--server",
         s.control, "--port", "0", "--rate", "50", "--idle", "0.3", "--quiet" });
     s.port = json::parse(s.bridge->read_line(30s).value()).at("port").get<int>();
@@ -196,6 +205,31 @@ TEST(igtl, ScalpelTransformsCutAndToolTransformsGrab) {
         left = long(grabs());
     }
     EXPECT_EQ(left, 0) << "the grab is released once its TRANSFORMs stop";
+    socket->CloseSocket();
+}
+
+TEST(igtl, FollowsARestartedServer) {
+    Session s = start(false);
+    auto socket = connect(s.port);
+    const auto first = next_polydata(*socket);
+    ASSERT_TRUE(first);
+    // The server goes away and another one, on another scene, takes its endpoints.
+    s.server->terminate();
+    s.server = start_server("cut_halves.json", false, s.control, s.stream);
+    ASSERT_TRUE(s.server->read_line(60s));
+    zmq::context_t context;
+    record::ControlClient control(context, s.control);
+    const auto snapshot
+        = std::get<protocol::SurfaceSnapshot>(control.call(protocol::GetSurfaceParams {}));
+    ASSERT_NE(snapshot.header.vertex_count, first->points.size()) << "pick scenes that differ";
+    bool followed = false;
+    for (int frames = 0; frames < 500 && !followed; ++frames) {
+        const auto polydata = next_polydata(*socket);
+        ASSERT_TRUE(polydata) << "no POLYDATA after the restart";
+        followed = polydata->points.size() == snapshot.header.vertex_count
+            && polydata->polygons == snapshot.header.triangle_count;
+    }
+    EXPECT_TRUE(followed) << "the bridge still sends the old server's surface";
     socket->CloseSocket();
 }
 
