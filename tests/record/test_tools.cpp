@@ -34,6 +34,10 @@ TEST(RecordOptions, ParsesAnOfflineRecording) {
     EXPECT_EQ(c.offline_options.scene_file, "scene.json");
     EXPECT_EQ(c.offline_options.commands, "log.jsonl");
     EXPECT_EQ(c.png_dir, "frames");
+    // A ParaView series alone is an output too.
+    const auto v = record::parse_record_command({ "--offline", "scene.json", "--vtu", "steps" });
+    EXPECT_EQ(v.offline_options.vtu_dir, "steps");
+    EXPECT_TRUE(v.png_dir.empty() && v.mp4.empty());
 }
 
 TEST(RecordOptions, RejectsBadCommandLinesNamingTheOption) {
@@ -45,8 +49,8 @@ TEST(RecordOptions, RejectsBadCommandLinesNamingTheOption) {
         { { "--png-dir", "a", "--size", "640" }, "--size" },
         { { "--png-dir", "a", "--frames", "3", "--seconds", "2" }, "--seconds" },
         { { "--png-dir", "a", "--commands", "log" }, "--commands" },
-        { { "--png-dir", "a", "--bogus", "1" }, "--bogus" },
-        { { "--png-dir" }, "--png-dir" },
+        { { "--png-dir", "a", "--bogus", "1" }, "--bogus" }, { { "--png-dir" }, "--png-dir" },
+        { { "--png-dir", "a", "--vtu", "v" }, "--vtu" }, // the stream has no volume mesh
     };
     for (const auto& [args, option] : cases) {
         try {
