@@ -113,6 +113,7 @@ export class Connection {
     if (status.bridge === 'ready') {
       this.ready = true;
       this.handlers.onStatus('live', 'live');
+      if (status.scene && this.handlers.onScene) this.handlers.onScene(status.scene);
       this.resync();
     } else if (status.bridge === 'waiting') {
       this.handlers.onStatus('waiting for the server', 'down');

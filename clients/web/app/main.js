@@ -25,13 +25,20 @@ const connection = new Connection(`ws://${location.host}/ws`, {
     status('live', 'live');
     show(mirror);
   },
+  onScene: showScene,
   onEvent(event) {
-    if (event.kind === 'scene') $('f-scene').textContent = event.detail.name;
+    if (event.kind === 'scene') showScene(event.detail.name);
     if (event.kind === 'rejected' || event.kind === 'warning') {
       lastError = `${event.kind}: ${event.detail.reason || event.detail.message || ''}`;
     }
   },
 });
+
+/** The current scene's name, also selected in the list when it is there. */
+function showScene(name) {
+  $('f-scene').textContent = name;
+  if ([...$('scenes').options].some((o) => o.value === name)) $('scenes').value = name;
+}
 
 function show(m) {
   $('f-tick').textContent = m.tick;
@@ -63,9 +70,9 @@ async function loadSceneList() {
   const { scenes } = await res.json();
   $('scenes').replaceChildren(...scenes.map((name) => new Option(name, name)));
 }
-loadSceneList().catch(() => {});
+loadSceneList().then(() => showScene($('f-scene').textContent)).catch(() => {});
 $('load').onclick = () => connection.request('load_scene', { name: $('scenes').value })
-  .then(({ result }) => { $('f-scene').textContent = result.name; })
+  .then(({ result }) => showScene(result.name))
   .catch((err) => settings.report(`load: ${err.data ? err.data.reason : err.message}`));
 $('reset').onclick = () => connection.request('reset').catch(() => {});
 

@@ -1,8 +1,8 @@
 // The mouse as a scalpel and a hand. Left drag starting on the tissue is a scalpel stroke: the
-// blade is the segment of the view ray through the mouse, from 5 mm in front of the surface to
-// the blade depth behind it, moved over the plane through the first hit that faces the camera;
-// every pointer move sends a `scalpel` sample (a notification, at the mouse's rate) and the
-// release an `end_stroke`. Right drag starting on the tissue grabs it (`grab`), moves the anchor
+// blade is the segment of the view ray through the mouse, from 5 mm in front of the surface
+// under the mouse to the blade depth behind it (off the tissue, at the last surface distance
+// along the ray); every pointer move sends a `scalpel` sample (a notification, at the mouse's
+// rate) and the release an `end_stroke`. Right drag starting on the tissue grabs it (`grab`), moves the anchor
 // over that plane (`move_grab`) and lets go on release (`release`). Drags elsewhere orbit.
 import * as THREE from 'three';
 
@@ -79,12 +79,17 @@ export class Tools {
     this.connection.request('move_grab', { id: g.id, target: g.target.toArray() }).catch(() => {});
   }
 
-  /** One scalpel sample: the blade along the view ray through the pointer. */
+  /** One scalpel sample: the blade along the view ray through the pointer, starting just in
+   * front of the surface it meets (so the blade follows the surface as the mouse moves). */
   sample(e) {
-    const on = this.onPlane(e);
-    if (!on) return;
-    const a = on.point.clone().addScaledVector(on.dir, -ABOVE_M);
-    const b = on.point.clone().addScaledVector(on.dir, this.settings.depthM());
+    const caster = this.view.ray(e.clientX, e.clientY);
+    const hit = caster.intersectObject(this.view.mesh, false)[0];
+    if (hit) this.active.distance = hit.distance;
+    if (this.active.distance === undefined) return;
+    const dir = caster.ray.direction.clone();
+    const point = caster.ray.at(this.active.distance, new THREE.Vector3());
+    const a = point.clone().addScaledVector(dir, -ABOVE_M);
+    const b = point.clone().addScaledVector(dir, this.settings.depthM());
     this.view.setBlade(a, b);
     this.connection.notify('scalpel', { stroke: this.active.stroke, a: a.toArray(), b: b.toArray() });
   }
