@@ -23,7 +23,6 @@ struct LinkOptions {
     std::string control = "tcp://127.0.0.1:5555"; ///< the server's control endpoint
     /// How long the link's own hello waits for the server before it tries again [ms].
     std::chrono::milliseconds hello_timeout { 1000 };
-    std::size_t max_frames = 8; ///< frames per request from the browser (the server's limit)
 };
 
 /// A ZeroMQ message, frame by frame.
@@ -39,6 +38,8 @@ public:
     /// the server does not answer.
     using Status = std::function<void(std::string json)>;
 
+    /// Starts the link's thread: it connects the DEALER at once and subscribes once its hello
+    /// is answered.
     ServerLink(zmq::context_t& context, LinkOptions options, Deliver deliver, Status status);
     /// Stops the thread and closes the sockets.
     ~ServerLink();

@@ -7,7 +7,6 @@
 #include "polycut/common/error.hpp"
 #include "server_link.hpp"
 
-#include <utility> // before Boost.Asio 1.74, whose awaitable.hpp uses std::exchange without it
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -19,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
+#include <utility> // before Boost.Asio 1.74, whose awaitable.hpp uses std::exchange without it
 
 namespace polycut::web {
 
@@ -29,6 +29,10 @@ namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
 namespace {
+
+/// Frames a browser's request may have: the server's default limits.max_frames_per_message (a
+/// larger envelope is refused here; the server applies its own limit to the rest).
+constexpr std::size_t kMaxRequestFrames = 8;
 
 std::string mime_type(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
@@ -139,7 +143,7 @@ private:
         m_buffer.consume(m_buffer.size());
         if (m_ws.got_text()) {
             m_link->send({ message });
-        } else if (auto frames = unpack_frames(message, 8)) {
+        } else if (auto frames = unpack_frames(message, kMaxRequestFrames)) {
             m_link->send(std::move(*frames));
         } else {
             // Not an envelope: say so as the server says what is wrong with a message.

@@ -28,7 +28,9 @@ public:
     /// the collection is unchanged then.
     void add(double time, const std::string& file);
 
+    /// The steps listed so far, in order.
     const std::vector<Step>& steps() const { return m_steps; }
+    /// The .pvd file.
     const std::string& path() const { return m_path; }
 
 private:
