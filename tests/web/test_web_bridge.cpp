@@ -2,14 +2,10 @@
 // (app files, no path escapes, the scene list, the same-origin rule for WebSockets) and the
 // WebSocket <-> ZeroMQ relay against a fake server (ROUTER + PUB) whose frames must arrive
 // byte for byte.
+#include "beast.hpp"
 #include "envelope.hpp"
 #include "web_server.hpp"
 
-#include <utility> // before Boost.Asio 1.74, whose awaitable.hpp uses std::exchange without it
-#include <boost/asio.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>

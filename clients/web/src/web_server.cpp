@@ -3,14 +3,11 @@
 // WsSession on an upgrade of /ws.
 #include "web_server.hpp"
 
+#include "beast.hpp"
 #include "envelope.hpp"
 #include "polycut/common/error.hpp"
 #include "server_link.hpp"
 
-#include <boost/asio.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
 #include <csignal>
 #include <deque>
 #include <filesystem>
@@ -18,7 +15,6 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
-#include <utility> // before Boost.Asio 1.74, whose awaitable.hpp uses std::exchange without it
 
 namespace polycut::web {
 
