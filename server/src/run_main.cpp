@@ -9,6 +9,7 @@
 // status 2.
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "polycut/mesh/io_pvd.hpp"
 #include "polycut/sim/simulation.hpp"
 #include "run_report.hpp"
 
@@ -125,12 +126,15 @@ int main(int argc, char** argv) {
             steps = sim.is_static() ? 1 : sc.output.steps;
         if (!vtu_dir.empty())
             std::filesystem::create_directories(vtu_dir);
+        // ParaView opens DIR/series.pvd: every written step with its simulated time [s].
+        mesh::PvdCollection series(vtu_dir + "/series.pvd");
         auto write_frame = [&](long tick) {
             if (vtu_dir.empty())
                 return;
             char name[64];
-            std::snprintf(name, sizeof name, "/frame_%06ld.vtu", tick);
-            sim.write_vtu(vtu_dir + name);
+            std::snprintf(name, sizeof name, "frame_%06ld.vtu", tick);
+            sim.write_vtu(vtu_dir + "/" + name);
+            series.add(sim.time(), name);
         };
         write_frame(0);
         // Sweeps whose tick is past the last step are applied at the end.

@@ -1,8 +1,6 @@
 // Small parts of polycut-record and polycut-bench: the command line, the progress bar line, the
-// histogram figure and the benchmark report's keys.
+// benchmark report's keys (the histogram figure: test_plot_bench.py).
 #include "bench_report.hpp"
-#include "bitmap_font.hpp"
-#include "histogram_plot.hpp"
 #include "polycut/common/error.hpp"
 #include "progress_bar.hpp"
 #include "record_options.hpp"
@@ -36,6 +34,10 @@ TEST(RecordOptions, ParsesAnOfflineRecording) {
     EXPECT_EQ(c.offline_options.scene_file, "scene.json");
     EXPECT_EQ(c.offline_options.commands, "log.jsonl");
     EXPECT_EQ(c.png_dir, "frames");
+    // A ParaView series alone is an output too.
+    const auto v = record::parse_record_command({ "--offline", "scene.json", "--vtu", "steps" });
+    EXPECT_EQ(v.offline_options.vtu_dir, "steps");
+    EXPECT_TRUE(v.png_dir.empty() && v.mp4.empty());
 }
 
 TEST(RecordOptions, RejectsBadCommandLinesNamingTheOption) {
@@ -47,8 +49,8 @@ TEST(RecordOptions, RejectsBadCommandLinesNamingTheOption) {
         { { "--png-dir", "a", "--size", "640" }, "--size" },
         { { "--png-dir", "a", "--frames", "3", "--seconds", "2" }, "--seconds" },
         { { "--png-dir", "a", "--commands", "log" }, "--commands" },
-        { { "--png-dir", "a", "--bogus", "1" }, "--bogus" },
-        { { "--png-dir" }, "--png-dir" },
+        { { "--png-dir", "a", "--bogus", "1" }, "--bogus" }, { { "--png-dir" }, "--png-dir" },
+        { { "--png-dir", "a", "--vtu", "v" }, "--vtu" }, // the stream has no volume mesh
     };
     for (const auto& [args, option] : cases) {
         try {
@@ -70,55 +72,6 @@ TEST(ProgressBar, LineShowsFractionCountsAndRate) {
     const std::string done = record::ProgressBar::line("rec", "ticks", 600, 600, 10.0);
     EXPECT_NE(done.find("100%"), std::string::npos);
     EXPECT_EQ(done.find("ETA"), std::string::npos);
-}
-
-TEST(BitmapFont, DrawsInkInsideTheTextBox) {
-    render::Image image;
-    image.width = 100;
-    image.height = 20;
-    image.rgba.assign(100 * 20 * 4, 0);
-    const int end = bench::draw_text(image, 2, 3, "P99 12.5", { 255, 255, 255 }, 1);
-    EXPECT_EQ(end, 2 + bench::text_width("P99 12.5"));
-    long ink = 0, outside = 0;
-    for (int y = 0; y < 20; ++y) {
-        for (int x = 0; x < 100; ++x) {
-            const bool lit = image.pixel(x, y)[0] == 255;
-            const bool inside = x >= 2 && x < end && y >= 3 && y < 3 + bench::kGlyphHeight;
-            ink += lit && inside ? 1 : 0;
-            outside += lit && !inside ? 1 : 0;
-        }
-    }
-    EXPECT_GT(ink, 40);
-    EXPECT_EQ(outside, 0);
-}
-
-TEST(HistogramPlot, WritesANonTrivialPng) {
-    std::vector<double> normal, flat;
-    for (int k = 0; k < 2000; ++k) {
-        // A deterministic bell-ish sample around 20 ms and a uniform one.
-        const double u = (k % 97) / 97.0, v = (k % 89) / 89.0, w = (k % 83) / 83.0;
-        normal.push_back(10 + 10 * (u + v + w) / 1.5);
-        flat.push_back(0.5 + 1.5 * u);
-    }
-    const render::Image image = bench::plot_histograms({ { "command to visible", "ms", normal },
-        { "round trip", "ms", flat }, { "empty", "ms", {} } });
-    EXPECT_EQ(image.width, 900);
-    EXPECT_EQ(image.height, 3 * 240);
-    const std::string path = record::test::scratch_dir("histogram") + "/h.png";
-    render::write_png(path, image);
-    const render::Image back = render::read_png(path);
-    ASSERT_EQ(back.rgba, image.rgba);
-    std::set<std::uint32_t> colours;
-    long bar_pixels = 0;
-    for (int y = 0; y < back.height; ++y) {
-        for (int x = 0; x < back.width; ++x) {
-            const std::uint8_t* p = back.pixel(x, y);
-            colours.insert(std::uint32_t(p[0]) << 16 | std::uint32_t(p[1]) << 8 | p[2]);
-            bar_pixels += (p[0] == 70 && p[1] == 120 && p[2] == 190) ? 1 : 0;
-        }
-    }
-    EXPECT_GE(colours.size(), 5u); // background, ink, grid, bars, p50, p99
-    EXPECT_GT(bar_pixels, 5000); // two panels of bars
 }
 
 TEST(BenchReport, JsonHasTheDocumentedKeys) {
@@ -144,6 +97,10 @@ TEST(BenchReport, JsonHasTheDocumentedKeys) {
     EXPECT_TRUE(j["server"].contains("step_ms"));
     EXPECT_TRUE(j["server"].contains("ticks_over_budget"));
     EXPECT_TRUE(j["machine"].contains("logical_cpus"));
+    // The raw samples the matplotlib histograms are drawn from, as measured.
+    EXPECT_EQ(j["samples"]["command_to_visible_ms"], nlohmann::json({ 10.0, 12.0, 30.0 }));
+    EXPECT_EQ(j["samples"]["control_rtt_ms"].size(), 3u);
+    EXPECT_EQ(j["samples"]["server_step_ms"].size(), 2u);
 }
 
 } // namespace

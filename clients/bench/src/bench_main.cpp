@@ -1,5 +1,6 @@
 // polycut-bench: the latency benchmark (docs/recording.md "Benchmark"). Prints the JSON report
-// on stdout (and to --json FILE), and draws the histograms to --histogram FILE.png.
+// on stdout (and to --json FILE), and draws the histograms to --histogram FILE.png with
+// clients/bench/plot_bench.py (matplotlib; POLYCUT_BENCH_PLOT overrides the script's path).
 #include "bench_report.hpp"
 #include "polycut/common/error.hpp"
 
@@ -103,6 +104,10 @@ int main(int argc, char** argv) {
         if (!quiet) {
             std::fprintf(stderr, "%s", report_text(result).c_str());
         }
+        // The histogram script reads the report from a file: --json's, else one beside the PNG.
+        if (json_path.empty() && !histogram_path.empty()) {
+            json_path = histogram_path + ".json";
+        }
         if (!json_path.empty()) {
             std::ofstream out(json_path);
             out << report << '\n';
@@ -111,7 +116,8 @@ int main(int argc, char** argv) {
             }
         }
         if (!histogram_path.empty()) {
-            polycut::render::write_png(histogram_path, plot_histograms(report_panels(result)));
+            const char* script = std::getenv("POLYCUT_BENCH_PLOT");
+            plot_histograms(script ? script : POLYCUT_BENCH_PLOT, json_path, histogram_path);
         }
         return 0;
     } catch (const polycut::InputError& e) {

@@ -1,12 +1,18 @@
 // Benchmark report (see bench_report.hpp).
 #include "bench_report.hpp"
 
+#include "polycut/common/error.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <spawn.h>
 #include <sys/utsname.h>
+#include <sys/wait.h>
 #include <thread>
+
+extern char** environ;
 
 namespace polycut::bench {
 
@@ -16,6 +22,14 @@ using json = nlohmann::json;
 
 double round3(double v) {
     return std::round(v * 1000.0) / 1000.0;
+}
+
+json rounded(const std::vector<double>& sample) {
+    json out = json::array();
+    for (const double v : sample) {
+        out.push_back(round3(v));
+    }
+    return out;
 }
 
 json distribution(const std::vector<double>& sample) {
@@ -88,6 +102,8 @@ std::string report_json(const ProbeOptions& options, const ProbeResult& r) {
         { "errors", r.command_errors },
         { "not_visible", r.commands_sent - r.commands_visible - r.command_errors } };
     out["wall_s"] = round3(r.wall_s);
+    out["samples"] = { { "command_to_visible_ms", rounded(r.visible_ms) },
+        { "control_rtt_ms", rounded(r.control_rtt_ms) }, { "server_step_ms", rounded(r.step_ms) } };
     return out.dump();
 }
 
@@ -110,9 +126,27 @@ std::string report_text(const ProbeResult& r) {
     return text;
 }
 
-std::vector<HistogramPanel> report_panels(const ProbeResult& r) {
-    return { { "command to visible", "ms", r.visible_ms },
-        { "control round trip", "ms", r.control_rtt_ms }, { "server step", "ms", r.step_ms } };
+void plot_histograms(
+    const std::string& script, const std::string& report_path, const std::string& png_path) {
+    const std::string python = "/usr/bin/python3";
+    std::vector<std::string> args { python, script, report_path, png_path };
+    std::vector<char*> argv;
+    for (std::string& a : args) {
+        argv.push_back(a.data());
+    }
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    const int spawned = ::posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
+    if (spawned != 0) {
+        throw FileError(python, 0, "cannot run the histogram script " + script);
+    }
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0) { }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        throw FileError(png_path, 0,
+            "the histogram script " + script + " failed (exit status "
+                + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+    }
 }
 
 } // namespace polycut::bench

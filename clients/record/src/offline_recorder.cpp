@@ -3,6 +3,7 @@
 
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "polycut/mesh/io_pvd.hpp"
 #include "progress_bar.hpp"
 #include "server_command_log.hpp"
 #include "server_session.hpp"
@@ -172,6 +173,12 @@ OfflineSummary record_offline(
 
     OfflineSummary summary;
     std::optional<FrameRecorder> recorder;
+    bool sink_made = false;
+    std::optional<mesh::PvdCollection> series;
+    if (!options.vtu_dir.empty()) {
+        std::filesystem::create_directories(options.vtu_dir);
+        series.emplace(options.vtu_dir + "/series.pvd");
+    }
     ProgressBar progress(static_cast<long>(total), "polycut-record", "ticks", options.progress);
     double step_ms = 0;
     const auto on_tick = [&](const server::Session& s, const sim::StepReport& report) {
@@ -185,7 +192,15 @@ OfflineSummary record_offline(
         if (options.max_frames > 0 && summary.frames >= options.max_frames) {
             return;
         }
-        if (!recorder) {
+        ++summary.frames;
+        if (series) {
+            char name[64];
+            std::snprintf(name, sizeof name, "frame_%06lld.vtu", static_cast<long long>(tick));
+            s.simulation().write_vtu(options.vtu_dir + "/" + name);
+            series->add(s.simulation().time(), name);
+        }
+        if (!sink_made) {
+            sink_made = true;
             const double dt = s.simulation().scene().integrator.dt;
             summary.fps = dt > 0 ? std::round(1000.0 / (dt * double(options.every))) / 1000.0
                                  : 60.0 / double(options.every);
@@ -193,7 +208,12 @@ OfflineSummary record_offline(
             if (!settings.camera) {
                 settings.camera = scene_camera(s.simulation().scene());
             }
-            recorder.emplace(settings, make_sink(summary.fps));
+            if (auto sink = make_sink(summary.fps)) {
+                recorder.emplace(settings, std::move(sink));
+            }
+        }
+        if (!recorder) {
+            return;
         }
         const sim::Surface surface = s.simulation().surface();
         render::SurfaceArrays arrays;
@@ -201,15 +221,16 @@ OfflineSummary record_offline(
         arrays.triangles = surface.triangles;
         arrays.tags = surface.tags;
         recorder->add(arrays);
-        ++summary.frames;
     };
     const server::ReplaySummary replay
         = server::replay_command_log(replay_log.path(), session, on_tick, until);
     progress.finish();
-    if (!recorder) {
-        throw InputError("--commands", "the replay rendered no frame");
+    if (summary.frames == 0) {
+        throw InputError("--commands", "the replay recorded no frame");
     }
-    recorder->finish();
+    if (recorder) {
+        recorder->finish();
+    }
     summary.commands = replay.commands;
     summary.rejected = replay.rejected;
     summary.state_hash = hex64(replay.state_hash);
@@ -217,7 +238,7 @@ OfflineSummary record_offline(
     summary.wall_s = wall.ms() / 1000.0;
     summary.step_ms_mean = summary.ticks > 0 ? step_ms / double(summary.ticks) : 0.0;
     summary.render_ms_mean
-        = summary.frames > 0 ? recorder->busy_ms() / double(summary.frames) : 0.0;
+        = recorder && summary.frames > 0 ? recorder->busy_ms() / double(summary.frames) : 0.0;
     return summary;
 }
 

@@ -23,12 +23,15 @@ struct OfflineOptions {
     long max_frames = 0; ///< stop after this many frames (0 = to the log's end marker)
     std::string scene_dir; ///< directory for load_scene by name ("" = the log header's)
     bool progress = true; ///< progress bar on stderr
+    /// Also write every recorded tick's volume mesh as DIR/frame_TICK.vtu (displacement,
+    /// velocity, stress, von Mises, cut tag) and the collection DIR/series.pvd ("" = none).
+    std::string vtu_dir;
 };
 
 /// What an offline recording did.
 struct OfflineSummary {
     std::int64_t ticks = 0; ///< ticks simulated
-    long frames = 0; ///< frames rendered
+    long frames = 0; ///< frames recorded (rendered and/or written as .vtu)
     std::size_t commands = 0; ///< commands replayed
     std::size_t rejected = 0; ///< commands the session refused (should be 0)
     std::string state_hash; ///< final session state hash, 16 hex digits
@@ -39,7 +42,8 @@ struct OfflineSummary {
     double render_ms_mean = 0; ///< mean render + write per frame [ms]
 };
 
-/// Makes the frame sink once the frame rate is known (it comes from the scene's time step).
+/// Makes the frame sink once the frame rate is known (it comes from the scene's time step); a
+/// factory returning null renders nothing (a --vtu only recording).
 using SinkFactory = std::function<std::unique_ptr<FrameSink>(double fps)>;
 
 /// True when this build has offline support (the simulation was configured).

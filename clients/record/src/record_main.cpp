@@ -23,6 +23,9 @@ using polycut::record::RecordCommand;
 
 polycut::record::SinkFactory sink_factory(const RecordCommand& command) {
     return [&command](double fps) -> std::unique_ptr<polycut::record::FrameSink> {
+        if (command.png_dir.empty() && command.mp4.empty()) {
+            return nullptr; // --vtu only
+        }
         if (!command.png_dir.empty()) {
             return polycut::record::make_png_sink(command.png_dir);
         }
@@ -62,7 +65,10 @@ int run_offline(const RecordCommand& command) {
     const OfflineSummary s
         = record_offline(command.offline_options, command.render, sink_factory(command));
     const nlohmann::json out = { { "mode", "offline" },
-        { "output", command.png_dir.empty() ? command.mp4 : command.png_dir },
+        { "output",
+            !command.png_dir.empty()
+                ? command.png_dir
+                : (!command.mp4.empty() ? command.mp4 : command.offline_options.vtu_dir) },
         { "frames", s.frames }, { "ticks", s.ticks }, { "commands", s.commands },
         { "rejected", s.rejected }, { "state_hash", s.state_hash },
         { "topology_version", s.topology_version }, { "fps", command.fps.value_or(s.fps) },

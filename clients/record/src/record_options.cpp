@@ -39,6 +39,8 @@ std::string record_usage() {
            "                      [--two-sided]\n"
            "       polycut-record --offline SCENE.json [--commands LOG] [--scene-dir DIR]\n"
            "                      [--every K] [--frames N] (--png-dir DIR | --mp4 FILE) ...\n"
+           "                      [--vtu DIR]  (volume mesh per frame + DIR/series.pvd; may be\n"
+           "                      the only output)\n"
            "Live: subscribes to a running polycut-server and renders every K-th stream frame\n"
            "until N frames, S seconds or Ctrl-C. Offline: replays a command log written by\n"
            "polycut-server --record-commands and renders every K-th tick, deterministically.\n"
@@ -122,13 +124,22 @@ RecordCommand parse_record_command(const std::vector<std::string>& args) {
             command.offline_options.scene_file = v;
         } else if (a == "--commands") {
             command.offline_options.commands = v;
+        } else if (a == "--vtu") {
+            command.offline_options.vtu_dir = v;
         } else if (a == "--scene-dir") {
             command.offline_options.scene_dir = v;
         } else {
             throw InputError(a, "unknown option");
         }
     }
-    if (command.png_dir.empty() == command.mp4.empty()) {
+    if (!command.offline_options.vtu_dir.empty() && !command.offline) {
+        throw InputError("--vtu",
+            "only with --offline SCENE.json (the volume mesh is not on the stream; record the "
+            "session's commands and replay them)");
+    }
+    const bool vtu_only = !command.offline_options.vtu_dir.empty() && command.png_dir.empty()
+        && command.mp4.empty();
+    if (!vtu_only && command.png_dir.empty() == command.mp4.empty()) {
         throw InputError("--png-dir", "give exactly one of --png-dir DIR or --mp4 FILE");
     }
     if (has_frames && has_seconds) {

@@ -145,15 +145,22 @@ void Simulation::write_vtu(const std::string& path) const {
     const Impl& s = *m_impl;
     const mesh::Mesh& m = s.mesh;
     mesh::Field disp { "displacement", MatX(m.num_nodes(), 3) };
+    mesh::Field vel { "velocity", MatX::Zero(m.num_nodes(), 3) };
+    mesh::Field node_cut { "cut", MatX::Zero(m.num_nodes(), 1) };
     for (Index i = 0; i < m.num_nodes(); ++i)
         disp.values.row(i) = (s.positions[std::size_t(i)] - m.rest[std::size_t(i)]).transpose();
-    // Von Mises stress of each cell from the rotation-free part of its affine fit [Pa].
+    if (s.state.v.rows() == m.num_nodes()) // static scenes keep no velocity
+        vel.values = s.state.v;
+    // Cauchy stress of each cell from the rotation-free part of its affine fit [Pa] (small
+    // strain, rotated back to world space), and its von Mises value [Pa].
     const auto mat = elasticity_material(s.scene);
+    mesh::Field stress { "stress", MatX(m.num_cells(), 9) };
     mesh::Field vm { "von_mises", MatX(m.num_cells(), 1) };
+    mesh::Field cell_cut { "cut", MatX::Zero(m.num_cells(), 1) };
     for (Index c = 0; c < m.num_cells(); ++c) {
-        const auto& nodes = m.cells[std::size_t(c)].nodes;
+        const auto& cell = m.cells[std::size_t(c)];
         const auto fit = geometry::fit_affine(
-            geometry::gather(m.rest, nodes), geometry::gather(s.positions, nodes));
+            geometry::gather(m.rest, cell.nodes), geometry::gather(s.positions, cell.nodes));
         const Mat3 R
             = s.scene.integrator.corotated ? geometry::polar_rotation(fit.A) : Mat3::Identity();
         const Mat3 F = R.transpose() * fit.A;
@@ -161,8 +168,20 @@ void Simulation::write_vtu(const std::string& path) const {
         const Mat3 sigma = mat.lambda() * eps.trace() * Mat3::Identity() + 2.0 * mat.mu() * eps;
         const Mat3 dev = sigma - sigma.trace() / 3.0 * Mat3::Identity();
         vm.values(c, 0) = std::sqrt(1.5 * dev.squaredNorm());
+        const Mat3 world = R * sigma * R.transpose();
+        for (int k = 0; k < 9; ++k)
+            stress.values(c, k) = world(k / 3, k % 3); // row-major, as VTK's 9-component tensors
+        // The cut tag: how many of the cell's faces lie on a cut surface; their nodes get 1.
+        for (const Index f : cell.faces) {
+            const auto& face = m.faces[std::size_t(f)];
+            if (face.tag != mesh::FaceTag::Cut)
+                continue;
+            cell_cut.values(c, 0) += 1;
+            for (const Index n : face.nodes)
+                node_cut.values(n, 0) = 1;
+        }
     }
-    mesh::write_vtu(path, m, &s.positions, { disp }, { vm });
+    mesh::write_vtu(path, m, &s.positions, { disp, vel, node_cut }, { stress, vm, cell_cut });
 }
 
 } // namespace polycut::sim

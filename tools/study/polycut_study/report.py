@@ -4,6 +4,7 @@ import csv
 import json
 import math
 import os
+import sys
 
 from .analyze import COLUMNS, ensure_dir, front
 
@@ -72,11 +73,18 @@ def write_table(study, rows, out, command):
         f.write("\n".join(lines))
 
 
+def _pyplot():
+    """pyplot in polycut's figure style, the one polycut-bench's histograms use
+    (clients/python/polycut/plots.py)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
+                                    "clients", "python"))
+    from polycut.plots import apply_style
+    return apply_style()
+
+
 def plot(study, rows, out, command):
     """One PNG per problem; returns their paths."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = _pyplot()
     markers = "osD^v<>phX*P"
     plots = ensure_dir(os.path.join(out, "plots"))
     paths = []

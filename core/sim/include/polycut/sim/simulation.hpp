@@ -236,7 +236,10 @@ public:
     /// Hash of the whole dynamic state (positions, velocities, topology) for determinism tests.
     std::uint64_t state_hash() const;
 
-    /// Writes the volume mesh with displacement and stress fields as VTU.
+    /// Writes the volume mesh at its world positions as VTU with, per node, "displacement" [m],
+    /// "velocity" [m/s] (zero for static scenes) and "cut" (1 on a cut surface, else 0), and per
+    /// cell "stress" (Cauchy, 9 components row-major) [Pa], "von_mises" [Pa] and "cut" (the
+    /// number of the cell's faces on a cut surface).
     void write_vtu(const std::string& path) const;
 
 private:
