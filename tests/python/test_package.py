@@ -91,7 +91,8 @@ def main():
         subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", venv],
                        check=True)
         python = os.path.join(venv, "bin", "python")
-        install = subprocess.run([python, "-m", "pip", "install", "--no-index", "--no-build-isolation",
+        # Build isolation on and no index: the in-tree backend needs nothing from one.
+        install = subprocess.run([python, "-m", "pip", "install", "--no-index",
                                   "--quiet", "--disable-pip-version-check", src],
                                  capture_output=True, text=True)
         if install.returncode != 0:
