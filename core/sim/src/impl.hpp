@@ -13,6 +13,10 @@
 #include <map>
 #include <memory>
 
+namespace polycut::contact {
+class ContactField; // contact.cpp and simulation.cpp see it whole
+}
+
 namespace polycut::sim {
 
 /// Nodes and weights a force or grab acts on (material points, fixed at creation).
@@ -100,6 +104,30 @@ struct Simulation::Impl {
     /// point can be from its nearest node (pick()).
     double max_cell_diameter = 0;
     std::vector<Vec3> positions; ///< world positions (#N) [m], mirror of state.x
+
+    // Contact (contact.cpp): the penalty field with the scene's obstacles and the tools,
+    // made when the scene has obstacles or the first tool arrives.
+    std::unique_ptr<contact::ContactField> contact;
+    struct Tool {
+        ToolSpec spec;
+        long body = 0; ///< id in `contact`
+        ToolPose pose; ///< where the client put it (applied at the next step)
+        ToolPose stepped; ///< where it was during the last step
+    };
+    std::map<long, Tool> tools;
+    std::vector<long> obstacle_bodies; ///< body id of each scene obstacle
+    std::uint64_t contact_samples_version = 0; ///< topology_version the samples were made at
+    std::vector<BodyReaction> reactions;
+    double contact_ms = 0;
+    /// Makes the contact field (once) and hands it to the integrator.
+    contact::ContactField& ensure_contact();
+    /// build(): the scene's obstacles (when it has any).
+    void build_obstacles();
+    /// Before a step of length dt: samples up to date with the topology, tools at their new
+    /// poses with the velocity of their motion since the last step.
+    void prepare_contact(double dt);
+    /// After a step: the reactions of the new state.
+    void measure_contact();
 
     void build();
     void rebuild_physics();

@@ -1,5 +1,6 @@
 // sim::Simulation: construction from a scene, stepping, forces and grabs.
 #include "impl.hpp"
+#include "polycut/contact/contact_field.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/polygon.hpp"
@@ -57,6 +58,10 @@ void Simulation::Impl::build() {
     state = integrator->rest_state();
     forces.clear();
     grabs.clear();
+    tools.clear();
+    reactions.clear();
+    contact.reset();
+    build_obstacles();
     tick = 0;
     time = 0;
     static_solved = false;
@@ -173,6 +178,7 @@ StepReport Simulation::step() {
         } else {
             s.integrator->set_external_forces(s.f_ext);
             s.integrator->set_springs(s.grab_springs());
+            s.prepare_contact(dt);
             const integrate::StepReport ir = s.integrator->step(s.state);
             r.assembly_ms = ir.assembly_ms;
             r.solve_ms = ir.solve_ms;
@@ -182,8 +188,12 @@ StepReport Simulation::step() {
             r.rolled_back = ir.rolled_back;
             r.warnings = ir.warnings;
             s.static_solved = is_static() && !ir.rolled_back;
+            if (ir.penalty_entries_dropped > 0)
+                r.warnings.push_back(std::to_string(ir.penalty_entries_dropped)
+                    + " contact matrix entries outside the sparsity pattern were dropped");
         }
         s.sync_positions();
+        s.measure_contact();
     } catch (const std::exception& e) {
         // step() never throws: report and keep the last good state.
         r.warnings.push_back(std::string("step failed: ") + e.what());

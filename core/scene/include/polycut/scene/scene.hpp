@@ -195,6 +195,35 @@ struct Output {
     long vtu_every = 10; ///< write every k-th frame with --vtu
 };
 
+/// A rigid obstacle the tissue cannot enter (penalty contact, issue 15 item 1; docs/scenes.md
+/// "obstacles"). Fixed in the world.
+struct Obstacle {
+    enum class Kind { Plane, Box, Sphere, Capsule, Mesh };
+    Kind kind = Kind::Plane;
+    std::string name; ///< optional label (reports)
+    /// Plane: a point on it; box, sphere: the centre; mesh: the translation [m]
+    Vec3 point = Vec3::Zero();
+    Vec3 normal = Vec3::UnitZ(); ///< Plane: unit normal pointing out of the solid side
+    Vec3 size = Vec3::Constant(0.1); ///< Box: edge lengths [m]
+    /// Box and mesh: rotation as an axis-angle vector (axis times angle) [rad]
+    Vec3 rotation = Vec3::Zero();
+    double radius = 0.01; ///< Sphere, capsule [m]
+    Vec3 a = Vec3::Zero(), b = Vec3::UnitZ(); ///< Capsule: axis endpoints [m]
+    std::string path; ///< Mesh: closed surface file, relative to the scene file
+    double scale = 1.0; ///< Mesh: file units to metres
+    /// Penalty stiffness [N/m^3] and Coulomb friction coefficient of this obstacle; absent:
+    /// the scene's `contact` values
+    std::optional<double> stiffness, friction;
+};
+
+/// Contact settings (docs/scenes.md "contact"). Absent values take contact::ContactParams'
+/// defaults (the one place they are set).
+struct Contact {
+    std::optional<double> stiffness; ///< penalty pressure per penetration depth [N/m^3]
+    std::optional<double> friction; ///< Coulomb coefficient (dimensionless)
+    std::optional<double> slip_velocity; ///< friction's regularization speed [m/s]
+};
+
 /// A whole scene.
 struct Scene {
     std::string name;
@@ -210,6 +239,8 @@ struct Scene {
     Loads loads;
     std::vector<Probe> probes;
     Cutting cutting;
+    std::vector<Obstacle> obstacles;
+    Contact contact;
     Camera camera;
     Output output;
 };
