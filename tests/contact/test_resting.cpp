@@ -91,8 +91,8 @@ Outcome drop(double stiffness, IntegratorKind kind, double dt, double seconds) {
 }
 } // namespace
 
-class RestingBlock
-    : public ::testing::TestWithParam<std::tuple<double, double, IntegratorKind>> { };
+class RestingBlock : public ::testing::TestWithParam<std::tuple<double, double, IntegratorKind>> {
+};
 
 TEST_P(RestingBlock, StableAndCarriesItsWeight) {
     const auto [stiffness, dt, kind] = GetParam();

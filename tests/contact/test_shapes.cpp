@@ -21,10 +21,11 @@ Pose rotated(const Vec3& position) {
 std::shared_ptr<const TriangleMeshDistance> box_mesh(const Vec3& h) {
     std::vector<Vec3> v;
     for (int i = 0; i < 8; ++i)
-        v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
-    const std::vector<std::array<Index, 3>> t = { { 0, 2, 1 }, { 1, 2, 3 }, { 4, 5, 6 },
-        { 5, 7, 6 }, { 0, 1, 4 }, { 1, 5, 4 }, { 2, 6, 3 }, { 3, 6, 7 }, { 0, 4, 2 },
-        { 2, 4, 6 }, { 1, 3, 5 }, { 3, 7, 5 } };
+        v.emplace_back(
+            (i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+    const std::vector<std::array<Index, 3>> t
+        = { { 0, 2, 1 }, { 1, 2, 3 }, { 4, 5, 6 }, { 5, 7, 6 }, { 0, 1, 4 }, { 1, 5, 4 },
+              { 2, 6, 3 }, { 3, 6, 7 }, { 0, 4, 2 }, { 2, 4, 6 }, { 1, 3, 5 }, { 3, 7, 5 } };
     return std::make_shared<TriangleMeshDistance>(v, t);
 }
 
@@ -80,8 +81,8 @@ TEST(Shapes, SignedDistancesMatchClosedForms) {
     // Box: inside, nearest face (local z, half extent 0.01, point at z = 0.007: phi = -0.003);
     // outside past a corner, the distance to the corner.
     const Shape box = make(Shape::Kind::Box);
-    EXPECT_NEAR(signed_distance(box, pose, pose.to_world(Vec3(0.001, 0.002, 0.007))).phi, -0.003,
-        tol);
+    EXPECT_NEAR(
+        signed_distance(box, pose, pose.to_world(Vec3(0.001, 0.002, 0.007))).phi, -0.003, tol);
     const Vec3 corner(0.02, 0.03, 0.01), off(0.001, 0.002, 0.002);
     EXPECT_NEAR(signed_distance(box, pose, pose.to_world(corner + off)).phi, off.norm(), tol);
     // Capsule: distance to the axis segment minus the radius, at the side and past an end.

@@ -89,6 +89,17 @@ void ContactField::for_each_contact(const MatX3& x, const MatX3* v, double h, F&
             hi = hi.cwiseMax(m_predicted[s]);
         }
     }
+    // Area-weighted outward normals of the samples at x (zero when no triangles are given).
+    m_normals.assign(m_samples.triangles.empty() ? 0 : n, Vec3::Zero());
+    for (std::size_t t = 0; t + 2 < m_samples.triangles.size(); t += 3) {
+        const std::uint32_t a = m_samples.triangles[t], b = m_samples.triangles[t + 1],
+                            c = m_samples.triangles[t + 2];
+        const Vec3 area_normal
+            = (m_positions[b] - m_positions[a]).cross(m_positions[c] - m_positions[a]);
+        m_normals[a] += area_normal;
+        m_normals[b] += area_normal;
+        m_normals[c] += area_normal;
+    }
     auto inside_box = [](const Vec3& p, const Vec3& blo, const Vec3& bhi) {
         return (p.array() >= blo.array()).all() && (p.array() <= bhi.array()).all();
     };
@@ -104,10 +115,11 @@ void ContactField::for_each_contact(const MatX3& x, const MatX3* v, double h, F&
             if (!now && !next)
                 continue;
             // The linearization point is the current position, whichever made it active.
-            const SignedDistance d = signed_distance(b.shape, b.pose, p);
+            const Vec3* facing = m_normals.empty() ? nullptr : &m_normals[s];
+            const SignedDistance d = signed_distance(b.shape, b.pose, p, facing);
             double depth = -d.phi;
             if (next) {
-                const SignedDistance dp = signed_distance(b.shape, b.pose, m_predicted[s]);
+                const SignedDistance dp = signed_distance(b.shape, b.pose, m_predicted[s], facing);
                 depth = std::max(depth, -dp.phi);
             }
             if (depth > 0)
@@ -116,8 +128,7 @@ void ContactField::for_each_contact(const MatX3& x, const MatX3* v, double h, F&
     }
 }
 
-void ContactField::evaluate(
-    const MatX3& x, const MatX3& v, double h, integrate::PenaltySet& out) {
+void ContactField::evaluate(const MatX3& x, const MatX3& v, double h, integrate::PenaltySet& out) {
     const Stopwatch watch;
     out.clear();
     const bool has_v = v.rows() == x.rows();
@@ -159,20 +170,21 @@ std::map<long, Reaction> ContactField::reactions(const MatX3& x, const MatX3& v)
     for (const auto& [id, b] : m_bodies)
         out[id] = Reaction {};
     const bool has_v = v.rows() == x.rows();
-    for_each_contact(x, nullptr, 0.0, [&](long id, const Body& b, std::size_t s, const Vec3& p,
-                                          const SignedDistance& d, double depth) {
-        const Vec3 pdot = has_v ? sample_velocity(v, s) : Vec3::Zero();
-        const ContactForce c
-            = contact_force(b, m_samples.areas[s], p, d, depth, has_v ? &pdot : nullptr);
-        // The force on the tissue is the normal force plus friction -D (pdot - v_body); the
-        // body feels the opposite.
-        const Vec3 on_tissue = c.normal_force - c.damping * (pdot - c.body_velocity);
-        Reaction& r = out[id];
-        r.force -= on_tissue;
-        r.torque += (p - b.pose.position).cross(-on_tissue);
-        ++r.points;
-        r.max_depth = std::max(r.max_depth, -d.phi);
-    });
+    for_each_contact(x, nullptr, 0.0,
+        [&](long id, const Body& b, std::size_t s, const Vec3& p, const SignedDistance& d,
+            double depth) {
+            const Vec3 pdot = has_v ? sample_velocity(v, s) : Vec3::Zero();
+            const ContactForce c
+                = contact_force(b, m_samples.areas[s], p, d, depth, has_v ? &pdot : nullptr);
+            // The force on the tissue is the normal force plus friction -D (pdot - v_body); the
+            // body feels the opposite.
+            const Vec3 on_tissue = c.normal_force - c.damping * (pdot - c.body_velocity);
+            Reaction& r = out[id];
+            r.force -= on_tissue;
+            r.torque += (p - b.pose.position).cross(-on_tissue);
+            ++r.points;
+            r.max_depth = std::max(r.max_depth, -d.phi);
+        });
     return out;
 }
 
@@ -192,13 +204,21 @@ Samples node_samples(const std::vector<Vec3>& rest, const std::vector<Index>& ve
             area[triangles[t + std::size_t(k)]] += third;
     }
     Samples out;
+    std::vector<std::uint32_t> sample_of(vertex_nodes.size(), 0);
     for (std::size_t v = 0; v < vertex_nodes.size(); ++v) {
         if (!(area[v] > 0))
             continue;
+        sample_of[v] = std::uint32_t(out.areas.size());
         out.nodes.push_back(vertex_nodes[v]);
         out.weights.push_back(1.0);
         out.areas.push_back(area[v]);
         out.offsets.push_back(std::uint32_t(out.nodes.size()));
+    }
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        if (!(area[triangles[t]] > 0 && area[triangles[t + 1]] > 0 && area[triangles[t + 2]] > 0))
+            continue;
+        for (int k = 0; k < 3; ++k)
+            out.triangles.push_back(sample_of[triangles[t + std::size_t(k)]]);
     }
     return out;
 }

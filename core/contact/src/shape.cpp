@@ -11,7 +11,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Signed distance to the box [-h, h] in its frame (the usual exact box SDF), with the outward
 /// direction: outside, from the closest point; inside, the axis of the nearest face.
-double box_distance(const Vec3& h, const Vec3& p, Vec3& n) {
+double box_distance(const Vec3& h, const Vec3& p, const Vec3* facing, Vec3& n) {
     const Vec3 q = p.cwiseAbs() - h;
     const Vec3 sign = p.unaryExpr([](double x) { return x < 0 ? -1.0 : 1.0; });
     if ((q.array() > 0).any()) {
@@ -20,6 +20,23 @@ double box_distance(const Vec3& h, const Vec3& p, Vec3& n) {
         n = out.cwiseProduct(sign) / d;
         return d;
     }
+    // Inside: the nearest face, or with `facing` the nearest face whose outward normal opposes
+    // it (a thin blade between the coincident lips of a cut: each lip leaves through the face
+    // it faces, not both through whichever is a round-off nearer).
+    double best = -std::numeric_limits<double>::infinity();
+    for (int axis = 0; axis < 3; ++axis)
+        for (const double side : { -1.0, 1.0 }) {
+            const double d = side * p[axis] - h[axis]; // <= 0 inside
+            if (facing && side * (*facing)[axis] >= 0)
+                continue;
+            if (d > best) {
+                best = d;
+                n = Vec3::Zero();
+                n[axis] = side;
+            }
+        }
+    if (best > -std::numeric_limits<double>::infinity())
+        return best;
     Index axis = 0;
     const double d = q.maxCoeff(&axis);
     n = Vec3::Zero();
@@ -35,8 +52,12 @@ double ball_distance(double r, const Vec3& p, Vec3& n) {
 }
 } // namespace
 
-SignedDistance signed_distance(const Shape& shape, const Pose& pose, const Vec3& p) {
+SignedDistance signed_distance(
+    const Shape& shape, const Pose& pose, const Vec3& p, const Vec3* facing) {
     const Vec3 local = pose.to_local(p);
+    Vec3 facing_local;
+    if (facing)
+        facing_local = pose.rotation.conjugate() * *facing;
     SignedDistance out;
     Vec3 n = Vec3::UnitZ();
     switch (shape.kind) {
@@ -44,7 +65,7 @@ SignedDistance signed_distance(const Shape& shape, const Pose& pose, const Vec3&
         out.phi = local.z();
         break;
     case Shape::Kind::Box:
-        out.phi = box_distance(shape.half_extents, local, n);
+        out.phi = box_distance(shape.half_extents, local, facing ? &facing_local : nullptr, n);
         break;
     case Shape::Kind::Sphere:
         out.phi = ball_distance(shape.radius, local, n);

@@ -51,13 +51,14 @@ TriangleMeshDistance::TriangleMeshDistance(
         const auto& tri = triangles[t];
         for (const Index v : tri)
             if (v < 0 || std::size_t(v) >= positions.size())
-                throw InputError("mesh", "triangle " + std::to_string(t) + " names vertex "
-                        + std::to_string(v) + " of " + std::to_string(positions.size()));
+                throw InputError("mesh",
+                    "triangle " + std::to_string(t) + " names vertex " + std::to_string(v) + " of "
+                        + std::to_string(positions.size()));
         if (m_impl->mesh.add_face(vertices[std::size_t(tri[0])], vertices[std::size_t(tri[1])],
                 vertices[std::size_t(tri[2])])
             == SurfaceMesh::null_face())
-            throw InputError("mesh",
-                "triangle " + std::to_string(t) + " makes the surface non-manifold");
+            throw InputError(
+                "mesh", "triangle " + std::to_string(t) + " makes the surface non-manifold");
         const Vec3& a = positions[std::size_t(tri[0])];
         const Vec3& b = positions[std::size_t(tri[1])];
         const Vec3& c = positions[std::size_t(tri[2])];

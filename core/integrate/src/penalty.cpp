@@ -45,8 +45,8 @@ void add_penalty_forces(const PenaltySet& set, const MatX3* v, double h,
     }
 }
 
-std::size_t add_penalty_blocks(const PenaltySet& set, const std::vector<Index>& dof_map,
-    double cK, double cD, solve::SparseMatrix& A, std::vector<std::pair<Index, double>>& record) {
+std::size_t add_penalty_blocks(const PenaltySet& set, const std::vector<Index>& dof_map, double cK,
+    double cD, solve::SparseMatrix& A, std::vector<std::pair<Index, double>>& record) {
     std::size_t missing = 0;
     double* values = A.valuePtr();
     for (const PenaltyPoint& p : set.points) {

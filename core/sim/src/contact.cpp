@@ -1,9 +1,9 @@
 // sim::Simulation: penalty contact with the scene's obstacles and the client's tools (issue 15
 // item 1). The contact field lives here; the integrator evaluates it inside every step.
 #include "impl.hpp"
-#include "polycut/contact/contact_field.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "polycut/contact/contact_field.hpp"
 #include "polycut/meshing/surface.hpp"
 
 #include <cmath>
@@ -13,8 +13,8 @@ namespace polycut::sim {
 
 namespace {
 /// The scene's values over contact::ContactParams' defaults, then a body's own.
-contact::ContactParams params_for(const scene::Contact& c, std::optional<double> stiffness,
-    std::optional<double> friction) {
+contact::ContactParams params_for(
+    const scene::Contact& c, std::optional<double> stiffness, std::optional<double> friction) {
     contact::ContactParams p;
     p.stiffness = stiffness.value_or(c.stiffness.value_or(p.stiffness));
     p.friction = friction.value_or(c.friction.value_or(p.friction));

@@ -56,6 +56,10 @@ struct Samples {
     std::vector<Index> nodes;
     std::vector<double> weights;
     std::vector<double> areas; ///< (#S) [m^2]
+    /// Optional surface triangles over the samples (#T x 3 sample indices), outward: the
+    /// samples' normals in the current configuration come from them (see signed_distance's
+    /// `facing`).
+    std::vector<std::uint32_t> triangles;
     std::size_t size() const { return areas.size(); }
 };
 
@@ -97,7 +101,7 @@ private:
     std::map<long, Body> m_bodies;
     long m_next_id = 1;
     Samples m_samples;
-    mutable std::vector<Vec3> m_positions, m_predicted; ///< of the current evaluation
+    mutable std::vector<Vec3> m_positions, m_predicted, m_normals; ///< of the current evaluation
     double m_last_ms = 0;
 };
 

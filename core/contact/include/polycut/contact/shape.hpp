@@ -42,8 +42,12 @@ struct SignedDistance {
 };
 
 /// Signed distance from world point `p` to `shape` placed at `pose`. Exact for every kind
-/// (the mesh through its AABB tree).
-SignedDistance signed_distance(const Shape& shape, const Pose& pose, const Vec3& p);
+/// (the mesh through its AABB tree). `facing` (optional, world): the outward normal of the
+/// tissue surface at p; inside a box, the point then leaves through the nearest face whose
+/// normal opposes it (the lips of a cut coincide: a blade between them pushes each lip back
+/// into its own side).
+SignedDistance signed_distance(
+    const Shape& shape, const Pose& pose, const Vec3& p, const Vec3* facing = nullptr);
 
 /// World bounding box of the solid (a plane: unbounded, so lo = -inf, hi = +inf).
 void world_bounds(const Shape& shape, const Pose& pose, Vec3& lo, Vec3& hi);

@@ -71,8 +71,8 @@ void add_penalty_forces(const PenaltySet& set, const MatX3* v, double h,
 /// A's existing pattern (full symmetric storage). Each addition is appended to `record` as
 /// (index into A.valuePtr(), value) so that undo_penalty_blocks() can take it out again; an
 /// entry missing from the pattern is skipped and counted in the return value.
-std::size_t add_penalty_blocks(const PenaltySet& set, const std::vector<Index>& dof_map,
-    double cK, double cD, solve::SparseMatrix& A, std::vector<std::pair<Index, double>>& record);
+std::size_t add_penalty_blocks(const PenaltySet& set, const std::vector<Index>& dof_map, double cK,
+    double cD, solve::SparseMatrix& A, std::vector<std::pair<Index, double>>& record);
 
 /// Subtracts what add_penalty_blocks() recorded and clears the record.
 void undo_penalty_blocks(solve::SparseMatrix& A, std::vector<std::pair<Index, double>>& record);
