@@ -61,9 +61,65 @@ Obstacle parse_obstacle(const json& j, const std::string& ptr) {
     r.finish();
     return o;
 }
+ScriptedTool parse_tool(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    ScriptedTool t;
+    t.shape = r.choice("shape", "", { "sphere", "capsule", "blade" });
+    if (t.shape != "blade")
+        t.radius = r.number_required("radius", 0, kMaxLength, true, "m");
+    if (t.shape == "capsule")
+        t.length = r.number_required("length", 0, kMaxLength, false, "m");
+    if (t.shape == "blade") {
+        t.size = r.vec3("size", t.size, true, "m");
+        positive_size(r, t.size);
+    }
+    if (r.has("stiffness"))
+        t.stiffness = r.number_required("stiffness", 0, kMaxStiffness, true, "N/m^3");
+    if (r.has("friction"))
+        t.friction = r.number_required("friction", 0, 10, false);
+    const json& keys = r.get("keys");
+    if (!keys.is_array() || keys.empty())
+        r.fail("keys", "must be a non-empty array of {\"t\", \"position\", \"orientation\"}");
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        ObjectReader k(keys[i], r.child("keys") + "/" + std::to_string(i));
+        ScriptedTool::Key key;
+        key.t = k.number("t", 0, 0, 1e7, false, "s");
+        if (!t.keys.empty() && !(key.t > t.keys.back().t))
+            k.fail("t", "must be later than the previous key's");
+        key.position = k.vec3("position", key.position, true, "m");
+        if (!(key.position.cwiseAbs().maxCoeff() <= kMaxLength))
+            k.fail("position", "coordinates must be within [-1000, 1000] [m]");
+        if (k.has("orientation")) {
+            const json& q = k.get("orientation");
+            if (!q.is_array() || q.size() != 4)
+                k.fail("orientation", "must be a quaternion [w, x, y, z]");
+            for (int c = 0; c < 4; ++c) {
+                if (!q[std::size_t(c)].is_number()
+                    || !std::isfinite(q[std::size_t(c)].get<double>()))
+                    throw SceneError(k.child("orientation") + "/" + std::to_string(c),
+                        "must be a finite number");
+                key.orientation[c] = q[std::size_t(c)].get<double>();
+            }
+            if (!(key.orientation.norm() > 1e-9))
+                k.fail("orientation", "must not be the zero quaternion");
+            key.orientation.normalize();
+        }
+        k.finish();
+        t.keys.push_back(key);
+    }
+    r.finish();
+    return t;
+}
 } // namespace
 
 void parse_contact(ObjectReader& r, Scene& s) {
+    if (r.has("tools")) {
+        const json& arr = r.get("tools");
+        if (!arr.is_array())
+            r.fail("tools", "must be an array of scripted tools");
+        for (std::size_t i = 0; i < arr.size(); ++i)
+            s.tools.push_back(parse_tool(arr[i], r.child("tools") + "/" + std::to_string(i)));
+    }
     if (r.has("obstacles")) {
         const json& arr = r.get("obstacles");
         if (!arr.is_array())

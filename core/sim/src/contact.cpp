@@ -11,6 +11,8 @@
 
 namespace polycut::sim {
 
+ToolPose scripted_pose(const scene::ScriptedTool& tool, double t);
+
 namespace {
 /// The scene's values over contact::ContactParams' defaults, then a body's own.
 contact::ContactParams params_for(
@@ -125,13 +127,54 @@ contact::ContactField& Simulation::Impl::ensure_contact() {
     return *contact;
 }
 
+/// A scripted tool's pose at time t: linear in position, slerp in orientation.
+ToolPose scripted_pose(const scene::ScriptedTool& tool, double t) {
+    const auto& keys = tool.keys;
+    auto pose_of = [](const scene::ScriptedTool::Key& k) {
+        ToolPose p;
+        p.position = k.position;
+        p.orientation = Eigen::Quaterniond(
+            k.orientation[0], k.orientation[1], k.orientation[2], k.orientation[3]);
+        return p;
+    };
+    if (t <= keys.front().t)
+        return pose_of(keys.front());
+    for (std::size_t i = 1; i < keys.size(); ++i)
+        if (t <= keys[i].t) {
+            const double s = (t - keys[i - 1].t) / (keys[i].t - keys[i - 1].t);
+            const ToolPose a = pose_of(keys[i - 1]), b = pose_of(keys[i]);
+            ToolPose out;
+            out.position = (1 - s) * a.position + s * b.position;
+            out.orientation = a.orientation.slerp(s, b.orientation);
+            return out;
+        }
+    return pose_of(keys.back());
+}
+
 void Simulation::Impl::build_obstacles() {
     obstacle_bodies.clear();
-    if (scene.obstacles.empty())
+    scripted_tools.clear();
+    if (scene.obstacles.empty() && scene.tools.empty())
         return;
     contact::ContactField& field = ensure_contact();
     for (std::size_t i = 0; i < scene.obstacles.size(); ++i)
         obstacle_bodies.push_back(field.add_body(obstacle_body(scene.obstacles[i], scene, i)));
+}
+
+void Simulation::Impl::build_scripted_tools(Simulation& owner) {
+    for (const scene::ScriptedTool& t : scene.tools) {
+        ToolSpec spec;
+        spec.kind = t.shape == "capsule" ? ToolSpec::Kind::Capsule
+            : t.shape == "blade"         ? ToolSpec::Kind::Blade
+                                         : ToolSpec::Kind::Sphere;
+        spec.radius = t.radius;
+        spec.length = t.length;
+        spec.size = t.size;
+        spec.stiffness = t.stiffness;
+        spec.friction = t.friction;
+        spec.pose = scripted_pose(t, 0.0);
+        scripted_tools.push_back(owner.add_tool(spec));
+    }
 }
 
 void Simulation::Impl::prepare_contact(double dt) {
@@ -145,6 +188,11 @@ void Simulation::Impl::prepare_contact(double dt) {
         contact->set_samples(
             contact::node_samples(mesh.rest, topology.vertex_nodes, topology.triangles));
         contact_samples_version = topology_version;
+    }
+    for (std::size_t i = 0; i < scripted_tools.size(); ++i) {
+        auto it = tools.find(scripted_tools[i]);
+        if (it != tools.end())
+            it->second.pose = scripted_pose(scene.tools[i], time + dt);
     }
     for (auto& [id, t] : tools) {
         contact::Body* b = contact->body(t.body);

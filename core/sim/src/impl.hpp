@@ -116,6 +116,7 @@ struct Simulation::Impl {
     };
     std::map<long, Tool> tools;
     std::vector<long> obstacle_bodies; ///< body id of each scene obstacle
+    std::vector<long> scripted_tools; ///< tool id of each scene tool (scene.tools)
     std::uint64_t contact_samples_version = 0; ///< topology_version the samples were made at
     std::vector<BodyReaction> reactions;
     double contact_ms = 0;
@@ -123,6 +124,8 @@ struct Simulation::Impl {
     contact::ContactField& ensure_contact();
     /// build(): the scene's obstacles (when it has any).
     void build_obstacles();
+    /// After build(): the scene's scripted tools, through `owner`'s add_tool.
+    void build_scripted_tools(Simulation& owner);
     /// Before a step of length dt: samples up to date with the topology, tools at their new
     /// poses with the velocity of their motion since the last step.
     void prepare_contact(double dt);

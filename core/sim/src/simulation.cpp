@@ -17,6 +17,7 @@ Simulation::Simulation(scene::Scene scene)
     m_impl->scene = std::move(scene);
     m_impl->initial_mesh = build_mesh(m_impl->scene, &m_impl->meshing);
     m_impl->build();
+    m_impl->build_scripted_tools(*this);
 }
 
 Simulation::~Simulation() = default;
@@ -71,6 +72,7 @@ void Simulation::Impl::build() {
 
 void Simulation::reset() {
     m_impl->build();
+    m_impl->build_scripted_tools(*this);
     ++m_impl->topology_version;
 }
 

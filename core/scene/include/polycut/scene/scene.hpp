@@ -216,6 +216,25 @@ struct Obstacle {
     std::optional<double> stiffness, friction;
 };
 
+/// A tool the scene moves itself along keyframes (docs/scenes.md "tools"): what a client
+/// would do with tool_create / tool_move, built into the scene so the runner and a recording
+/// replay it without a client.
+struct ScriptedTool {
+    std::string shape = "sphere"; ///< "sphere", "capsule" or "blade" (sim::ToolSpec)
+    double radius = 0.005; ///< sphere, capsule [m]
+    double length = 0.05; ///< capsule axis length [m]
+    Vec3 size = Vec3(0.03, 0.01, 0.001); ///< blade edge lengths [m]
+    std::optional<double> stiffness, friction; ///< absent: the scene's `contact` values
+    struct Key {
+        double t = 0; ///< simulated time [s], increasing along the keys
+        Vec3 position = Vec3::Zero(); ///< tool frame origin [m]
+        Eigen::Vector4d orientation { 1, 0, 0, 0 }; ///< unit quaternion [w, x, y, z]
+    };
+    /// Poses in time: linear between keys (orientations slerped), held before the first and
+    /// after the last
+    std::vector<Key> keys;
+};
+
 /// Contact settings (docs/scenes.md "contact"). Absent values take contact::ContactParams'
 /// defaults (the one place they are set).
 struct Contact {
@@ -240,6 +259,7 @@ struct Scene {
     std::vector<Probe> probes;
     Cutting cutting;
     std::vector<Obstacle> obstacles;
+    std::vector<ScriptedTool> tools;
     Contact contact;
     Camera camera;
     Output output;
