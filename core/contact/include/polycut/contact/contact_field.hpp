@@ -24,7 +24,7 @@ namespace polycut::contact {
 /// How a body pushes back.
 struct ContactParams {
     /// Penalty stiffness: contact pressure per metre of penetration [N/m^3] (Pa/m), > 0.
-    /// 1e6 lets a 10 cm organ of tissue density sink ~1 mm into the table under gravity.
+    /// At 1e6 the 1.3 N organ of assets/scenes/organ_table_probe.json sinks at most 2.4 mm.
     double stiffness = 1e6;
     /// Coulomb friction coefficient mu (dimensionless), >= 0; 0 = frictionless.
     double friction = 0;
