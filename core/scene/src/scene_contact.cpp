@@ -1,5 +1,6 @@
-// Scene keys `obstacles` and `contact` (docs/scenes.md): rigid shapes the tissue rests on or is
-// pressed against, and the penalty settings. Every field is checked where it is read.
+// Scene keys of issue 15 (docs/scenes.md): `obstacles` (rigid shapes the tissue rests on or is
+// pressed against), `tools` (scripted tools), `contact` (penalty settings) and `embedded` (a
+// detailed surface). Every field is checked where it is read.
 #include "scene_contact.hpp"
 
 namespace polycut::scene::detail {
@@ -127,6 +128,16 @@ void parse_contact(ObjectReader& r, Scene& s) {
         for (std::size_t i = 0; i < arr.size(); ++i)
             s.obstacles.push_back(
                 parse_obstacle(arr[i], r.child("obstacles") + "/" + std::to_string(i)));
+    }
+    if (r.has("embedded")) {
+        ObjectReader e(r.get("embedded"), r.child("embedded"));
+        Embedded emb;
+        emb.path = e.string("path", "");
+        if (emb.path.empty())
+            e.fail("path", "is required (a surface file relative to the scene file)");
+        emb.scale = e.number("scale", 1.0, 0, kMaxLength, true);
+        e.finish();
+        s.embedded = emb;
     }
     if (r.has("contact")) {
         ObjectReader c(r.get("contact"), r.child("contact"));

@@ -1,4 +1,4 @@
-// Scene keys of penalty contact (issue 15 item 1): `obstacles` and `contact`.
+// Scene keys of issue 15: `obstacles`, `tools`, `contact` and `embedded`.
 #pragma once
 
 #include "json_reader.hpp"
@@ -6,7 +6,8 @@
 
 namespace polycut::scene::detail {
 
-/// Reads the optional `obstacles` array and `contact` object of the scene object `r` into `s`.
+/// Reads the optional `obstacles`, `tools`, `contact` and `embedded` keys of the scene object
+/// `r` into `s`.
 void parse_contact(ObjectReader& r, Scene& s);
 
 } // namespace polycut::scene::detail

@@ -184,9 +184,12 @@ void Simulation::Impl::prepare_contact(double dt) {
         || (!contact->samples().nodes.empty()
             && *std::max_element(contact->samples().nodes.begin(), contact->samples().nodes.end())
                 >= mesh.num_nodes())) {
-        // The surface changed (a cut, or its undo): sample its vertices again.
-        contact->set_samples(
-            contact::node_samples(mesh.rest, topology.vertex_nodes, topology.triangles));
+        // The surface changed (a cut, or its undo): sample its vertices again (the embedded
+        // surface's, when the scene has one).
+        refresh_embedded();
+        contact->set_samples(embedded_current()
+                ? embedded_samples()
+                : contact::node_samples(mesh.rest, topology.vertex_nodes, topology.triangles));
         contact_samples_version = topology_version;
     }
     for (std::size_t i = 0; i < scripted_tools.size(); ++i) {

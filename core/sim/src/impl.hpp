@@ -15,6 +15,10 @@
 
 namespace polycut::contact {
 class ContactField; // contact.cpp and simulation.cpp see it whole
+struct Samples;
+}
+namespace polycut::embed {
+struct Embedding; // embedded.cpp
 }
 
 namespace polycut::sim {
@@ -124,6 +128,26 @@ struct Simulation::Impl {
     contact::ContactField& ensure_contact();
     /// build(): the scene's obstacles (when it has any).
     void build_obstacles();
+    // Embedded surface (embedded.cpp): the scene's detailed surface in the current mesh, and
+    // the cut lips of the mesh streamed with it.
+    std::unique_ptr<embed::Embedding> embedded;
+    std::vector<std::array<Index, 3>> embedded_triangles; ///< of the surface file
+    std::uint64_t embedded_version = 0; ///< topology_version the embedding belongs to
+    std::vector<Index> lip_vertex_nodes; ///< mesh node of each lip vertex
+    std::vector<std::uint32_t> lip_triangles; ///< (#T x 3) into the lip vertices
+    double embed_ms = 0; ///< wall time of the last (re-)embedding [ms]
+    /// build(): reads and embeds the scene's surface (when it names one).
+    void build_embedded();
+    /// Embeds the surface in the current mesh again after a topology change (a cut); the lips
+    /// come from the mesh's Cut faces.
+    void refresh_embedded();
+    /// Whether the embedded surface describes the current topology.
+    bool embedded_current() const;
+    /// The embedded surface (tag 1) plus the lips (tag 2).
+    void embedded_surface(Surface& out) const;
+    void embedded_positions(std::vector<float>& out) const;
+    /// Contact samples of the embedded surface and the lips.
+    contact::Samples embedded_samples() const;
     /// After build(): the scene's scripted tools, through `owner`'s add_tool.
     void build_scripted_tools(Simulation& owner);
     /// Before a step of length dt: samples up to date with the topology, tools at their new

@@ -1,6 +1,7 @@
 // sim::Simulation: construction from a scene, stepping, forces and grabs.
 #include "impl.hpp"
 #include "polycut/contact/contact_field.hpp"
+#include "polycut/embed/embedding.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/polygon.hpp"
@@ -68,6 +69,7 @@ void Simulation::Impl::build() {
     static_solved = false;
     sync_positions();
     refresh_topology();
+    build_embedded();
 }
 
 void Simulation::reset() {
@@ -85,6 +87,7 @@ void Simulation::Impl::sync_positions() {
 void Simulation::Impl::refresh_topology() {
     topology = surface::extract_topology(mesh);
     ++topology_version;
+    refresh_embedded();
 }
 
 NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const {
@@ -174,6 +177,7 @@ StepReport Simulation::step() {
     StepReport r;
     const double dt = is_static() ? 0.0 : s.scene.integrator.dt;
     try {
+        s.refresh_embedded(); // after the undo of a failed cut
         s.assemble_external(s.time + dt);
         if (is_static() && s.static_solved) {
             // Equilibrium already holds for unchanged loads.

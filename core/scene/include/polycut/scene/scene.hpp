@@ -243,6 +243,13 @@ struct Contact {
     std::optional<double> slip_velocity; ///< friction's regularization speed [m/s]
 };
 
+/// A detailed surface embedded in the simulation mesh (docs/scenes.md "embedded", issue 15
+/// item 2): streamed and rendered instead of the mesh's boundary, sampled by contact.
+struct Embedded {
+    std::string path; ///< surface file (OFF/OBJ/STL/PLY) relative to the scene file
+    double scale = 1.0; ///< file units to metres
+};
+
 /// A whole scene.
 struct Scene {
     std::string name;
@@ -261,6 +268,7 @@ struct Scene {
     std::vector<Obstacle> obstacles;
     std::vector<ScriptedTool> tools;
     Contact contact;
+    std::optional<Embedded> embedded;
     Camera camera;
     Output output;
 };
