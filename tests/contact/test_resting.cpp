@@ -25,7 +25,7 @@ struct Block {
 };
 
 /// A 4 cm hex block (2 x 2 x 2), 2 mm above the plane z = 0, sampled at its surface nodes.
-std::unique_ptr<Block> block(double stiffness, double beta = 0.01) {
+std::unique_ptr<Block> block(double stiffness, double beta = 0.01, bool fix_xy = false) {
     auto b = std::make_unique<Block>();
     mesh::BoxGrid g;
     g.lo = Vec3(0, 0, 0.002);
@@ -38,8 +38,11 @@ std::unique_ptr<Block> block(double stiffness, double beta = 0.01) {
     m.density = 1000;
     m.rayleigh_mass = 8.0;
     m.rayleigh_stiffness = beta;
-    b->model = std::make_unique<elasticity::ElasticModel>(b->mesh, m, basis::BasisOptions {},
-        std::vector<std::uint8_t>(3 * std::size_t(b->mesh.num_nodes()), 0));
+    std::vector<std::uint8_t> fixed(3 * std::size_t(b->mesh.num_nodes()), 0);
+    for (std::size_t k = 0; fix_xy && k < fixed.size(); ++k)
+        fixed[k] = k % 3 != 2; // only z free: no rigid modes but the one contact holds
+    b->model
+        = std::make_unique<elasticity::ElasticModel>(b->mesh, m, basis::BasisOptions {}, fixed);
     b->mass = b->model->nodal_mass().sum();
     const surface::Topology topo = surface::extract_topology(b->mesh);
     b->field.set_samples(contact::node_samples(b->mesh.rest, topo.vertex_nodes, topo.triangles));
@@ -134,5 +137,28 @@ TEST(RestingBlockSemiImplicit, PerNodePenaltyIsStableAtAHapticRate) {
         const double weight = b->mass * kGravity;
         EXPECT_NEAR(o.reaction.z(), -weight, 0.02 * weight) << k;
         EXPECT_GT(o.lowest, -0.02) << k;
+    }
+}
+
+TEST(RestingBlockStatic, NewtonFindsTheContactEquilibrium) {
+    // Static corotated Newton, x and y held (the plane holds z): the penalty's stiffness in the
+    // tangent and its energy in the line search take the block, hanging 2 mm above the plane
+    // under gravity, to rest on it: the plane carries the weight to the solver's tolerance.
+    for (const double k : { 1e5, 1e7, 1e9 }) {
+        auto b = block(k, 0.0, true);
+        IntegratorOptions o;
+        o.kind = IntegratorKind::Static;
+        o.gravity = Vec3(0, 0, -kGravity);
+        o.solver.kind = LinearSolverKind::Cholmod;
+        o.static_tolerance = 1e-10;
+        Integrator integ(*b->model, o);
+        integ.set_penalty_field(&b->field);
+        State s = integ.rest_state();
+        const StepReport r = integ.step(s);
+        ASSERT_FALSE(r.rolled_back) << k;
+        EXPECT_EQ(r.status, solve::SolveStatus::Ok) << k;
+        const double weight = b->mass * kGravity;
+        EXPECT_NEAR(b->field.reactions(s.x, s.v).begin()->second.force.z(), -weight, 1e-6 * weight)
+            << k;
     }
 }
