@@ -216,3 +216,51 @@ TEST(SimContact, MeshObstacleFromASurfaceFile) {
     EXPECT_GT(organ->points, 0);
     EXPECT_NEAR(organ->force.z(), -weight, 0.02 * weight);
 }
+
+TEST(SimContact, PiecesACutSeparatedPushEachOther) {
+    // A block cut through along y = 0 into two pieces, both fixed at the base; a blade pushes
+    // the -y piece's top 4 mm toward +y. Without self contact its lip sinks into the +y piece
+    // (the two copies of the lip node at (0, 0, 0.02) part by 2.5 mm); with it, the +y piece
+    // is pushed along (1.5 mm) and the copies stay within 0.2 mm (bound 0.5 mm).
+    auto lip_gap = [](double self_stiffness, double& moved) {
+        sim::Simulation s = make(block(R"(,
+          "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}],
+          "contact": {"self_stiffness": )"
+                + std::to_string(self_stiffness) + "}",
+            R"({"type": "implicit_euler", "dt": 0.0166667})"));
+        const sim::CutSummary cut
+            = s.cut({ { Vec3(-0.03, 0, 0.03), Vec3(0.03, 0, 0.03), Vec3(-0.03, 0, -0.01) },
+                { Vec3(0.03, 0, 0.03), Vec3(0.03, 0, -0.01), Vec3(-0.03, 0, -0.01) } });
+        EXPECT_TRUE(cut.ok()) << cut.reason;
+        s.step();
+        EXPECT_EQ(s.mesh_stats().components, 2);
+        std::vector<std::size_t> lip;
+        for (std::size_t i = 0; i < s.positions().size(); ++i)
+            if ((s.positions()[i] - Vec3(0, 0, 0.02)).norm() < 1e-4)
+                lip.push_back(i);
+        EXPECT_EQ(lip.size(), 2u);
+        sim::ToolSpec blade;
+        blade.kind = sim::ToolSpec::Kind::Blade;
+        blade.size = Vec3(0.05, 0.004, 0.012);
+        blade.pose.position = Vec3(0, -0.0221, 0.02);
+        blade.stiffness = 1e8;
+        const long id = s.add_tool(blade);
+        for (int k = 1; k <= 40; ++k) {
+            sim::ToolPose pose;
+            pose.position = Vec3(0, -0.0221 + 0.0001 * k, 0.02);
+            s.move_tool(id, pose);
+            EXPECT_FALSE(s.step().rolled_back);
+        }
+        for (int i = 0; i < 30; ++i)
+            s.step();
+        const double y0 = s.positions()[lip[0]].y(), y1 = s.positions()[lip[1]].y();
+        moved = std::min(y0, y1);
+        return std::abs(y0 - y1);
+    };
+    double moved_free = 0, moved_contact = 0;
+    const double free_gap = lip_gap(0, moved_free);
+    const double contact_gap = lip_gap(1e8, moved_contact);
+    EXPECT_GT(free_gap, 1e-3); // the lip went into the other piece
+    EXPECT_LT(contact_gap, 5e-4);
+    EXPECT_GT(moved_contact, 5e-4); // both copies were pushed along
+}

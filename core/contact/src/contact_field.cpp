@@ -4,6 +4,7 @@
 #include "polycut/common/stats.hpp"
 
 #include <cmath>
+#include <unordered_map>
 
 namespace polycut::contact {
 
@@ -153,7 +154,104 @@ void ContactField::evaluate(const MatX3& x, const MatX3& v, double h, integrate:
             point.other_velocity = c.body_velocity;
             out.points.push_back(point);
         });
+    m_last_self_points = 0;
+    if (m_self_stiffness > 0 && !m_samples.pieces.empty() && !m_samples.triangles.empty())
+        self_contact(out);
     m_last_ms = watch.ms();
+}
+
+void ContactField::self_contact(integrate::PenaltySet& out) const {
+    // Triangles of every piece in a uniform hash grid (cell = thickness x 4), then each sample
+    // against the triangles of other pieces near it.
+    const auto& tri = m_samples.triangles;
+    const std::size_t nt = tri.size() / 3;
+    if (nt == 0 || m_positions.size() != m_samples.size())
+        return;
+    const double cell = 4 * m_self_thickness;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+    auto key = [&](const Eigen::Vector3i& c) {
+        return (std::uint64_t(std::uint32_t(c.x()) & 0x1fffff) << 42)
+            | (std::uint64_t(std::uint32_t(c.y()) & 0x1fffff) << 21)
+            | std::uint64_t(std::uint32_t(c.z()) & 0x1fffff);
+    };
+    auto cell_of = [&](const Vec3& p) {
+        return Eigen::Vector3i(int(std::floor(p.x() / cell)), int(std::floor(p.y() / cell)),
+            int(std::floor(p.z() / cell)));
+    };
+    for (std::uint32_t t = 0; t < nt; ++t) {
+        Vec3 lo = m_positions[tri[3 * t]], hi = lo;
+        for (int k = 1; k < 3; ++k) {
+            lo = lo.cwiseMin(m_positions[tri[3 * t + std::size_t(k)]]);
+            hi = hi.cwiseMax(m_positions[tri[3 * t + std::size_t(k)]]);
+        }
+        const Eigen::Vector3i a = cell_of(lo - Vec3::Constant(m_self_thickness)),
+                              b = cell_of(hi + Vec3::Constant(m_self_thickness));
+        if (((b - a).array() > 64).any())
+            continue; // a triangle far larger than the band: a broken state
+        for (int i = a.x(); i <= b.x(); ++i)
+            for (int j = a.y(); j <= b.y(); ++j)
+                for (int k = a.z(); k <= b.z(); ++k)
+                    grid[key({ i, j, k })].push_back(t);
+    }
+    for (std::size_t s = 0; s < m_samples.size(); ++s) {
+        const Vec3& p = m_positions[s];
+        const auto it = grid.find(key(cell_of(p)));
+        if (it == grid.end())
+            continue;
+        double best = 0; // the deepest triangle the sample is behind
+        std::uint32_t best_t = 0;
+        Vec3 best_b = Vec3::Zero(), best_n = Vec3::Zero();
+        for (const std::uint32_t t : it->second) {
+            const std::uint32_t i0 = tri[3 * t], i1 = tri[3 * t + 1], i2 = tri[3 * t + 2];
+            if (m_samples.pieces[i0] == m_samples.pieces[s])
+                continue;
+            const Vec3 &a = m_positions[i0], &b = m_positions[i1], &c = m_positions[i2];
+            Vec3 n = (b - a).cross(c - a);
+            const double twice_area = n.norm();
+            if (!(twice_area > 0))
+                continue;
+            n /= twice_area;
+            // Surfaces that face each other only: a sample on an edge shared with the other
+            // piece's top (the lips of a cut start where the skin of both pieces meets) is
+            // behind that top's plane without being inside the piece.
+            if (!m_normals.empty() && !(m_normals[s].normalized().dot(n) < -0.3))
+                continue;
+            const double g = n.dot(p - a);
+            if (!(g < 0 && g > -m_self_thickness) || !(g < best))
+                continue;
+            // Barycentric coordinates of the projection; inside the triangle only.
+            const Vec3 q = p - g * n;
+            const double wa = n.dot((b - q).cross(c - q)) / twice_area;
+            const double wb = n.dot((c - q).cross(a - q)) / twice_area;
+            const double wc = 1 - wa - wb;
+            if (wa < 0 || wb < 0 || wc < 0)
+                continue;
+            best = g;
+            best_t = t;
+            best_b = Vec3(wa, wb, wc);
+            best_n = n;
+        }
+        if (!(best < 0))
+            continue;
+        const double k = m_self_stiffness * m_samples.areas[s];
+        integrate::PenaltyPoint point;
+        point.first = std::uint32_t(out.nodes.size());
+        auto add = [&](std::size_t sample, double scale) {
+            for (std::uint32_t j = m_samples.offsets[sample]; j < m_samples.offsets[sample + 1];
+                 ++j) {
+                out.nodes.push_back(m_samples.nodes[j]);
+                out.weights.push_back(scale * m_samples.weights[j]);
+            }
+        };
+        add(s, 1.0);
+        for (int c = 0; c < 3; ++c)
+            add(tri[3 * best_t + std::size_t(c)], -best_b[c]);
+        point.count = std::uint32_t(out.nodes.size()) - point.first;
+        point.force = -k * best * best_n;
+        point.stiffness = k * best_n * best_n.transpose();
+        out.points.push_back(point);
+        ++m_last_self_points;
+    }
 }
 
 double ContactField::energy(const MatX3& x) const {

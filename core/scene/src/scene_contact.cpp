@@ -145,6 +145,8 @@ void parse_contact(ObjectReader& r, Scene& s) {
             s.contact.stiffness = c.number_required("stiffness", 0, kMaxStiffness, true, "N/m^3");
         if (c.has("friction"))
             s.contact.friction = c.number_required("friction", 0, 10, false);
+        s.contact.self_stiffness = c.number(
+            "self_stiffness", s.contact.self_stiffness, 0, kMaxStiffness, false, "N/m^3");
         if (c.has("slip_velocity"))
             s.contact.slip_velocity = c.number_required("slip_velocity", 0, 10, true, "m/s");
         c.finish();

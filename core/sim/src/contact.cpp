@@ -151,10 +151,33 @@ ToolPose scripted_pose(const scene::ScriptedTool& tool, double t) {
     return pose_of(keys.back());
 }
 
+/// Connected piece of every node (union-find over the cells' nodes); nodes of no cell get -1.
+static std::vector<Index> node_pieces(const mesh::Mesh& mesh) {
+    std::vector<Index> root(mesh.rest.size());
+    for (std::size_t i = 0; i < root.size(); ++i)
+        root[i] = Index(i);
+    auto find = [&](Index i) {
+        while (root[std::size_t(i)] != i)
+            i = root[std::size_t(i)] = root[std::size_t(root[std::size_t(i)])];
+        return i;
+    };
+    std::vector<std::uint8_t> used(mesh.rest.size(), 0);
+    for (const auto& c : mesh.cells)
+        for (const Index n : c.nodes) {
+            used[std::size_t(n)] = 1;
+            root[std::size_t(find(n))] = find(c.nodes.front());
+        }
+    std::vector<Index> out(mesh.rest.size(), kNone);
+    for (std::size_t i = 0; i < out.size(); ++i)
+        if (used[i])
+            out[i] = find(Index(i));
+    return out;
+}
+
 void Simulation::Impl::build_obstacles() {
     obstacle_bodies.clear();
     scripted_tools.clear();
-    if (scene.obstacles.empty() && scene.tools.empty())
+    if (scene.obstacles.empty() && scene.tools.empty() && !(scene.contact.self_stiffness > 0))
         return;
     contact::ContactField& field = ensure_contact();
     for (std::size_t i = 0; i < scene.obstacles.size(); ++i)
@@ -187,9 +210,19 @@ void Simulation::Impl::prepare_contact(double dt) {
         // The surface changed (a cut, or its undo): sample its vertices again (the embedded
         // surface's, when the scene has one).
         refresh_embedded();
-        contact->set_samples(embedded_current()
-                ? embedded_samples()
-                : contact::node_samples(mesh.rest, topology.vertex_nodes, topology.triangles));
+        contact::Samples samples = embedded_current()
+            ? embedded_samples()
+            : contact::node_samples(mesh.rest, topology.vertex_nodes, topology.triangles);
+        if (scene.contact.self_stiffness > 0) {
+            // The connected piece of each sample: of its first node (the nodes of one sample
+            // share a cell).
+            const std::vector<Index> piece = node_pieces(mesh);
+            samples.pieces.clear();
+            for (std::size_t i = 0; i < samples.size(); ++i)
+                samples.pieces.push_back(piece[std::size_t(samples.nodes[samples.offsets[i]])]);
+            contact->set_self_contact(scene.contact.self_stiffness, 0.5 * initial_cell_size);
+        }
+        contact->set_samples(std::move(samples));
         contact_samples_version = topology_version;
     }
     for (std::size_t i = 0; i < scripted_tools.size(); ++i) {

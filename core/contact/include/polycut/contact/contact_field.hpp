@@ -60,6 +60,9 @@ struct Samples {
     /// samples' normals in the current configuration come from them (see signed_distance's
     /// `facing`).
     std::vector<std::uint32_t> triangles;
+    /// Optional connected piece of each sample (#S): with self contact on, a sample is pushed
+    /// out of the surface triangles of the other pieces (those a cut separated).
+    std::vector<Index> pieces;
     std::size_t size() const { return areas.size(); }
 };
 
@@ -88,6 +91,21 @@ public:
     /// with friction), by id.
     std::map<long, Reaction> reactions(const MatX3& x, const MatX3& v) const;
 
+    /// Contact between the pieces of the tissue (Samples::pieces) with penalty stiffness
+    /// `stiffness` [N/m^3] (0: off). A sample p of one piece behind a surface triangle t of
+    /// another (its projection inside t, within `thickness` [m] of its plane on the inner
+    /// side, the surfaces facing each other) feels f = -k a g n, g = n . (p - sum_i b_i t_i) < 0,
+    /// and t's corners feel -b_i f:
+    /// one penalty point over p's and t's nodes. Blocks between nodes of different cells fall
+    /// outside the elastic pattern and are dropped (the integrator counts them): the
+    /// self-contact stiffness is implicit on each node's own block only.
+    void set_self_contact(double stiffness, double thickness) {
+        m_self_stiffness = stiffness;
+        m_self_thickness = thickness;
+    }
+    /// Self-contact points of the last evaluate().
+    int last_self_points() const { return m_last_self_points; }
+
     /// Wall time of the last evaluate() [ms].
     double last_evaluate_ms() const { return m_last_ms; }
 
@@ -103,6 +121,10 @@ private:
     Samples m_samples;
     mutable std::vector<Vec3> m_positions, m_predicted, m_normals; ///< of the current evaluation
     double m_last_ms = 0;
+    double m_self_stiffness = 0, m_self_thickness = 0;
+    mutable int m_last_self_points = 0;
+    /// Self contact at positions x (m_positions filled) into `out`.
+    void self_contact(integrate::PenaltySet& out) const;
 };
 
 } // namespace polycut::contact

@@ -241,6 +241,8 @@ struct Contact {
     std::optional<double> stiffness; ///< penalty pressure per penetration depth [N/m^3]
     std::optional<double> friction; ///< Coulomb coefficient (dimensionless)
     std::optional<double> slip_velocity; ///< friction's regularization speed [m/s]
+    /// Contact between the pieces a cut separated: penalty stiffness [N/m^3]; 0 = off
+    double self_stiffness = 0;
 };
 
 /// A detailed surface embedded in the simulation mesh (docs/scenes.md "embedded", issue 15
