@@ -34,4 +34,9 @@ void write_surface_arrays(const SurfaceHeader& header, std::span<const float> po
     std::span<const std::uint32_t> triangles, std::span<const std::uint8_t> tags, json& out,
     Message& frames);
 
+/// Contact reports (stream header `contacts`, get_stats `contacts`) <-> a JSON array.
+json contacts_json(const std::vector<ContactReport>& contacts);
+std::vector<ContactReport> read_contacts(
+    const json& value, const std::string& pointer, ErrorCode code);
+
 } // namespace polycut::protocol::detail

@@ -98,6 +98,61 @@ std::vector<Triangle3> read_triangles(ObjectReader& r, FrameSet& frames, const L
     return triangles;
 }
 
+std::optional<Quaternion> read_orientation(ObjectReader& r) {
+    const json* v = r.optional("orientation");
+    if (v == nullptr) {
+        return std::nullopt;
+    }
+    const std::string pointer = r.at("orientation");
+    if (!v->is_array() || v->size() != 4) {
+        fail(kBad, pointer, "must be a quaternion [w, x, y, z] of 4 numbers");
+    }
+    Quaternion q {};
+    double norm2 = 0;
+    for (std::size_t k = 0; k < 4; ++k) {
+        q[k] = read_number((*v)[k], pointer_append(pointer, k), Range { -1e3, 1e3 });
+        norm2 += q[k] * q[k];
+    }
+    if (!(norm2 > 1e-18)) {
+        fail(kBad, pointer, "must not be the zero quaternion");
+    }
+    return q;
+}
+
+ToolCreateParams read_tool_create(ObjectReader& r) {
+    ToolCreateParams p;
+    p.shape = read_string(r.required("shape"), r.at("shape"), 16);
+    const Range length { 0.0, kMaxRadius, true };
+    if (p.shape == "sphere" || p.shape == "capsule") {
+        p.radius = read_number(r.required("radius"), r.at("radius"), length);
+    }
+    if (p.shape == "capsule") {
+        p.length = read_number(r.required("length"), r.at("length"), Range { 0.0, kMaxRadius });
+    }
+    if (p.shape == "blade") {
+        p.size = read_vector3(r.required("size"), r.at("size"), kMaxRadius);
+        for (std::size_t k = 0; k < 3; ++k) {
+            if (!((*p.size)[k] > 0)) {
+                fail(kBad, pointer_append(r.at("size"), k), "must be > 0 [m]");
+            }
+        }
+    }
+    if (p.shape != "sphere" && p.shape != "capsule" && p.shape != "blade") {
+        fail(kBad, r.at("shape"),
+            "must be \"sphere\", \"capsule\" or \"blade\", got \"" + p.shape + "\"");
+    }
+    p.position = read_point(r, "position");
+    p.orientation = read_orientation(r);
+    if (const json* v = r.optional("stiffness")) {
+        p.stiffness
+            = read_number(*v, r.at("stiffness"), Range { 0.0, kMaxContactStiffness, true });
+    }
+    if (const json* v = r.optional("friction")) {
+        p.friction = read_number(*v, r.at("friction"), Range { 0.0, kMaxFriction });
+    }
+    return p;
+}
+
 Params decode_object(Method method, ObjectReader& r, FrameSet& frames, const Limits& limits) {
     switch (method) {
     case Method::Hello: {
@@ -207,6 +262,17 @@ Params decode_object(Method method, ObjectReader& r, FrameSet& frames, const Lim
         return GetStatsParams {};
     case Method::Shutdown:
         return ShutdownParams {};
+    case Method::ToolCreate:
+        return read_tool_create(r);
+    case Method::ToolMove: {
+        ToolMoveParams p;
+        p.id = read_object_id(r, "id");
+        p.position = read_point(r, "position");
+        p.orientation = read_orientation(r);
+        return p;
+    }
+    case Method::ToolRemove:
+        return ToolRemoveParams { read_object_id(r, "id") };
     }
     fail(ErrorCode::MethodNotFound, "/method", "unknown method");
 }
@@ -297,6 +363,35 @@ json encode_params(const Params& params, const EncodeOptions& options, Message& 
                 out["b"] = vector_json(p.b);
             } else if constexpr (std::is_same_v<T, EndStrokeParams>) {
                 out["stroke"] = p.stroke;
+            } else if constexpr (std::is_same_v<T, ToolCreateParams>) {
+                out["shape"] = p.shape;
+                if (p.radius) {
+                    out["radius"] = *p.radius;
+                }
+                if (p.length) {
+                    out["length"] = *p.length;
+                }
+                if (p.size) {
+                    out["size"] = vector_json(*p.size);
+                }
+                out["position"] = vector_json(p.position);
+                if (p.orientation) {
+                    out["orientation"] = json(*p.orientation);
+                }
+                if (p.stiffness) {
+                    out["stiffness"] = *p.stiffness;
+                }
+                if (p.friction) {
+                    out["friction"] = *p.friction;
+                }
+            } else if constexpr (std::is_same_v<T, ToolMoveParams>) {
+                out["id"] = p.id;
+                out["position"] = vector_json(p.position);
+                if (p.orientation) {
+                    out["orientation"] = json(*p.orientation);
+                }
+            } else if constexpr (std::is_same_v<T, ToolRemoveParams>) {
+                out["id"] = p.id;
             }
         },
         params);

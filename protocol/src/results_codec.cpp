@@ -20,9 +20,12 @@ std::size_t result_index(Method method) {
     case Method::MoveGrab:
     case Method::Release:
     case Method::Shutdown:
+    case Method::ToolMove:
+    case Method::ToolRemove:
         return 3;
     case Method::ApplyForce:
     case Method::Grab:
+    case Method::ToolCreate:
         return 4;
     case Method::Cut:
     case Method::EndStroke:
@@ -200,6 +203,15 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
                 *field = read_uint(*v, m.r.at(name), 0, kU64, kCode);
             }
         }
+        if (const json* v = m.r.optional("tools"); v != nullptr) {
+            s.tools = static_cast<std::uint32_t>(read_uint(*v, m.r.at("tools"), 0, kU32, kCode));
+        }
+        if (const json* v = m.r.optional("contacts"); v != nullptr) {
+            s.contacts = read_contacts(*v, m.r.at("contacts"), kCode);
+        }
+        if (const json* v = m.r.optional("contact_ms"); v != nullptr) {
+            s.contact_ms = read_number(*v, m.r.at("contact_ms"), Range { 0.0 }, kCode);
+        }
         return s;
     }
     }
@@ -266,6 +278,9 @@ json encode_result_json(const Result& result, Message& frames) {
                 out["events_coalesced"] = r.events_coalesced;
                 out["events_suppressed"] = r.events_suppressed;
                 out["busy"] = r.busy;
+                out["tools"] = r.tools;
+                out["contacts"] = contacts_json(r.contacts);
+                out["contact_ms"] = r.contact_ms;
             }
         },
         result);

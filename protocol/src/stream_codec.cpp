@@ -43,6 +43,44 @@ void write_surface_header(const SurfaceHeader& h, json& out) {
     }
     out["applied"] = std::move(applied);
     out["cut_deferred"] = h.cut_deferred;
+    if (!h.contacts.empty()) {
+        out["contacts"] = contacts_json(h.contacts);
+    }
+}
+
+json contacts_json(const std::vector<ContactReport>& contacts) {
+    json out = json::array();
+    for (const ContactReport& c : contacts) {
+        out.push_back({ { "kind", c.kind }, { "id", c.id }, { "force", c.force },
+            { "torque", c.torque }, { "points", c.points }, { "depth", c.depth } });
+    }
+    return out;
+}
+
+std::vector<ContactReport> read_contacts(
+    const json& value, const std::string& pointer, ErrorCode code) {
+    if (!value.is_array()) {
+        fail(code, pointer, "must be an array of contact reports");
+    }
+    std::vector<ContactReport> out;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+        ObjectReader c(value[i], pointer_append(pointer, i), code);
+        ContactReport report;
+        report.kind = read_string(c.required("kind"), c.at("kind"), 16, code);
+        if (report.kind != "tool" && report.kind != "obstacle") {
+            fail(code, c.at("kind"), "must be \"tool\" or \"obstacle\"");
+        }
+        report.id = read_uint(
+            c.required("id"), c.at("id"), 0, std::numeric_limits<std::uint64_t>::max(), code);
+        report.force = read_vector3(c.required("force"), c.at("force"), 1e300, code);
+        report.torque = read_vector3(c.required("torque"), c.at("torque"), 1e300, code);
+        report.points = static_cast<std::uint32_t>(read_uint(c.required("points"), c.at("points"),
+            0, std::numeric_limits<std::uint32_t>::max(), code));
+        report.depth = read_number(c.required("depth"), c.at("depth"), Range { 0.0 }, code);
+        c.finish();
+        out.push_back(report);
+    }
+    return out;
 }
 
 void write_surface_arrays(const SurfaceHeader& header, std::span<const float> positions,
@@ -107,6 +145,9 @@ SurfaceFrame read_surface(
     if (const json* deferred = r.optional("cut_deferred")) {
         h.cut_deferred
             = static_cast<std::uint32_t>(read_uint(*deferred, r.at("cut_deferred"), 0, kU32, code));
+    }
+    if (const json* contacts = r.optional("contacts")) {
+        h.contacts = read_contacts(*contacts, r.at("contacts"), code);
     }
 
     const auto positions_ref = frames.read_ref(r.required("positions"), r.at("positions"), code);

@@ -180,6 +180,7 @@ int main(int argc, char** argv) {
             rec.assembly_ms.push_back(r.assembly_ms);
             rec.solve_ms.push_back(r.solve_ms);
             rec.iterations.push_back(double(r.solver_iterations));
+            rec.add_contact(sim.contact_reactions(), sim.contact_ms(), sim.tick());
             rec.max_residual = std::max(rec.max_residual, r.residual);
             rec.rolled_back += r.rolled_back ? 1 : 0;
             rec.undone_cuts += r.cut_undone ? 1 : 0;

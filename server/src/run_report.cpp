@@ -89,6 +89,16 @@ nlohmann::json to_json(const RunRecord& r) {
             { "failed_cuts", r.failed_cuts }, { "undone_cuts", r.undone_cuts } };
         j["mesh_after"] = mesh_json(r.after);
     }
+    if (!r.bodies.empty()) {
+        nlohmann::json bodies = nlohmann::json::array();
+        for (const auto& b : r.bodies)
+            bodies.push_back({ { "kind", b.kind }, { "id", b.id }, { "name", b.name },
+                { "max_force", { b.max_force.x(), b.max_force.y(), b.max_force.z() } },
+                { "max_force_tick", b.max_force_tick }, { "max_depth", b.max_depth },
+                { "final_force", { b.final_force.x(), b.final_force.y(), b.final_force.z() } } });
+        j["contact"] = { { "contact_ms", summary_json(summarize(r.contact_ms)) },
+            { "points", summary_json(summarize(r.contact_points)) }, { "bodies", bodies } };
+    }
     // Distinct warnings, in order of first appearance.
     std::vector<std::string> distinct;
     for (const auto& w : r.warnings)
@@ -96,6 +106,29 @@ nlohmann::json to_json(const RunRecord& r) {
             distinct.push_back(w);
     j["warnings"] = distinct;
     return j;
+}
+
+void RunRecord::add_contact(const std::vector<sim::BodyReaction>& reactions, double ms, long tick) {
+    if (reactions.empty())
+        return;
+    contact_ms.push_back(ms);
+    double points = 0;
+    for (const sim::BodyReaction& r : reactions) {
+        points += r.points;
+        auto it = std::find_if(bodies.begin(), bodies.end(),
+            [&](const BodyPeak& b) { return b.kind == r.kind && b.id == r.id; });
+        if (it == bodies.end()) {
+            bodies.push_back(BodyPeak { r.kind, r.name, r.id, {}, 0, 0, {} });
+            it = bodies.end() - 1;
+        }
+        if (r.force.norm() > it->max_force.norm()) {
+            it->max_force = r.force;
+            it->max_force_tick = tick;
+        }
+        it->max_depth = std::max(it->max_depth, r.max_depth);
+        it->final_force = r.force;
+    }
+    contact_points.push_back(points);
 }
 
 } // namespace polycut::run

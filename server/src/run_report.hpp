@@ -41,6 +41,20 @@ struct RunRecord {
     /// --samples: rest points and the displacement there at the end (inside 0: in no cell)
     std::vector<Vec3> sample_points, sample_u;
     std::vector<std::uint8_t> sample_inside;
+    // Contact (issue 15): per step, and per tool/obstacle the largest force over the run
+    std::vector<double> contact_ms; ///< contact detection and reactions of each step [ms]
+    std::vector<double> contact_points; ///< penalty points (samples in contact) per step
+    struct BodyPeak {
+        std::string kind, name;
+        long id = 0;
+        Vec3 max_force = Vec3::Zero(); ///< the force of largest magnitude over the run [N]
+        long max_force_tick = 0;
+        double max_depth = 0; ///< [m]
+        Vec3 final_force = Vec3::Zero(); ///< after the last step [N]
+    };
+    std::vector<BodyPeak> bodies;
+    /// Folds a step's reactions into `bodies` and the per-step series.
+    void add_contact(const std::vector<sim::BodyReaction>& reactions, double ms, long tick);
 };
 
 nlohmann::json summary_json(const Summary& s);

@@ -33,7 +33,7 @@ constexpr double kActiveClientWindow = 10.0;
 
 bool is_cached_method(Method m) {
     return m == Method::Cut || m == Method::EndStroke || m == Method::ApplyForce
-        || m == Method::Grab;
+        || m == Method::Grab || m == Method::ToolCreate;
 }
 
 std::string hex64(std::uint64_t v) {
@@ -500,6 +500,9 @@ protocol::Stats Server::Impl::stats() const {
     s.events_coalesced = events_coalesced;
     s.events_suppressed = events_suppressed;
     s.busy = busy;
+    s.tools = session.active_tools();
+    s.contacts = session.contacts();
+    s.contact_ms = session.has_scene() ? session.simulation().contact_ms() : 0.0;
     return s;
 }
 

@@ -77,6 +77,9 @@ bool Session::is_mutation(protocol::Method method) {
     case M::Cut:
     case M::Scalpel:
     case M::EndStroke:
+    case M::ToolCreate:
+    case M::ToolMove:
+    case M::ToolRemove:
         return true;
     default:
         return false;
@@ -100,6 +103,7 @@ void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
     m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
     m_forces.clear();
     m_grabs.clear();
+    m_tools.clear();
     m_strokes.clear();
     m_pending_sweep.clear();
 }
@@ -151,6 +155,12 @@ ApplyOutcome Session::apply(
                     return scalpel(p, client, now_s, reply_expected);
                 } else if constexpr (std::is_same_v<T, protocol::EndStrokeParams>) {
                     return end_stroke(p, client);
+                } else if constexpr (std::is_same_v<T, protocol::ToolCreateParams>) {
+                    return tool_create(p);
+                } else if constexpr (std::is_same_v<T, protocol::ToolMoveParams>) {
+                    return tool_move(p);
+                } else if constexpr (std::is_same_v<T, protocol::ToolRemoveParams>) {
+                    return tool_remove(p);
                 } else {
                     return make_error(ErrorCode::InternalError, "/method",
                         "not a simulation command: " + std::string(protocol::method_name(method)));
@@ -272,6 +282,7 @@ ApplyOutcome Session::reset() {
     m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
     m_forces.clear();
     m_grabs.clear();
+    m_tools.clear();
     m_strokes.clear();
     m_pending_sweep.clear();
     return Applied { protocol::RunState { 0, false, 0.0 }, true, "reset" };
@@ -387,6 +398,10 @@ std::uint64_t Session::state_hash() const {
         mix_value(id);
         mix(g.target.data(), sizeof g.target);
         mix(g.spec.data(), sizeof g.spec);
+    }
+    for (const auto& [id, t] : m_tools) {
+        mix_value(id);
+        mix(t.pose.data(), sizeof t.pose);
     }
     for (const PendingSweep& pending : m_pending_sweep) {
         mix(pending.client.data(), pending.client.size());

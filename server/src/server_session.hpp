@@ -68,7 +68,7 @@ public:
 
     /// True when the method changes the simulation (and so is recorded in the command log):
     /// load_scene, reset, apply_force, remove_force, grab, move_grab, release, cut, scalpel,
-    /// end_stroke.
+    /// end_stroke, tool_create, tool_move, tool_remove.
     static bool is_mutation(protocol::Method method);
 
     /// Applies a mutation at the current tick boundary on behalf of `client` (the routing
@@ -118,11 +118,14 @@ public:
     std::uint64_t topology_version() const;
     std::uint32_t active_forces() const { return static_cast<std::uint32_t>(m_forces.size()); }
     std::uint32_t active_grabs() const { return static_cast<std::uint32_t>(m_grabs.size()); }
+    std::uint32_t active_tools() const { return static_cast<std::uint32_t>(m_tools.size()); }
+    /// What the tissue does to every tool (by wire id) and obstacle after the last tick.
+    std::vector<protocol::ContactReport> contacts() const;
     std::size_t open_strokes() const { return m_strokes.size(); }
     std::uint32_t cell_count() const { return m_cells; }
 
     /// Hash of the whole session state: the simulation's state_hash, its tick and topology
-    /// version, the active forces and grabs with their wire ids, and the open strokes.
+    /// version, the active forces, grabs and tools with their wire ids, and the open strokes.
     std::uint64_t state_hash() const;
 
     /// The next tick number a command applied now takes effect in (tick() + 1).
@@ -140,6 +143,10 @@ private:
     ApplyOutcome scalpel(const protocol::ScalpelParams& p, std::string_view client, double now_s,
         bool reply_expected);
     ApplyOutcome end_stroke(const protocol::EndStrokeParams& p, std::string_view client);
+    // Tools (server_session_tool.cpp)
+    ApplyOutcome tool_create(const protocol::ToolCreateParams& p);
+    ApplyOutcome tool_move(const protocol::ToolMoveParams& p);
+    ApplyOutcome tool_remove(const protocol::ToolRemoveParams& p);
     /// Runs the simulation's cut; never throws. A rejected triangle becomes -32002 pointing at
     /// it under `pointer` (`pointer`/i/k); a cut that failed (and was undone) -32002 pointing
     /// at `pointer`.
@@ -171,6 +178,11 @@ private:
     std::uint32_t m_cells = 0;
     std::map<std::uint64_t, ForceEntry> m_forces; ///< wire id -> entry
     std::map<std::uint64_t, GrabEntry> m_grabs;
+    struct ToolEntry {
+        long sim_id = 0;
+        std::array<double, 7> pose {}; ///< position, orientation w x y z (for the state hash)
+    };
+    std::map<std::uint64_t, ToolEntry> m_tools;
     std::uint64_t m_next_id = 1; ///< wire ids of forces and grabs, never reused
     StrokeTable m_strokes;
     /// Scalpel sweep triangles received since the last tick, applied together at its start:

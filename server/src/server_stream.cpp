@@ -39,6 +39,7 @@ void Server::Impl::publish_surface(const sim::StepReport& report, bool force_top
     h.step.residual = report.residual;
     h.step.warnings = report.warnings;
     h.cut_deferred = static_cast<std::uint32_t>(session.pending_sweep_triangles());
+    h.contacts = session.contacts();
     h.applied = std::move(applied);
     applied.clear();
     const std::span<const std::uint32_t> triangles = topology

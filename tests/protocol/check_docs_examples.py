@@ -23,7 +23,7 @@ import jsonschema
 BASE = "https://polycut.dev/protocol/1/"
 METHODS = ["hello", "load_scene", "reset", "pause", "resume", "step", "set_rate", "apply_force",
            "remove_force", "grab", "move_grab", "release", "cut", "scalpel", "end_stroke",
-           "get_surface", "get_stats", "shutdown"]
+           "get_surface", "get_stats", "shutdown", "tool_create", "tool_move", "tool_remove"]
 ANNOTATION = re.compile(r"<!--\s*(schema|bad-request):\s*(.*?)\s*-->")
 
 

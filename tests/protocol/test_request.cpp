@@ -29,6 +29,10 @@ std::vector<Params> sample_params() {
         GetSurfaceParams {},
         GetStatsParams {},
         ShutdownParams {},
+        ToolCreateParams { "capsule", 0.004, 0.08, std::nullopt, { 0.0, 0.01, 0.09 },
+            Quaternion { 0.9238795, 0.3826834, 0.0, 0.0 }, 2e6, 0.3 },
+        ToolMoveParams { 5, { 0.0, 0.012, 0.085 }, Quaternion { 1.0, 0.0, 0.0, 0.0 } },
+        ToolRemoveParams { 5 },
     };
 }
 

@@ -18,7 +18,9 @@ double Integrator::total_energy(const State& s) const {
         gravity -= m(i) * m_options.gravity.dot(s.x.row(i).transpose() - rest[std::size_t(i)]);
     // Grab springs are potential forces too (anchors fixed within a step): without their energy
     // every step toward a moved grab target read as a gain and was shortened to nothing.
-    return energy(s) + gravity + spring_energy(m_springs, s.x);
+    // Contact penalties likewise (obstacles and tools hold still within a step).
+    return energy(s) + gravity + spring_energy(m_springs, s.x)
+        + (m_penalty ? m_penalty->energy(s.x) : 0.0);
 }
 
 bool Integrator::step_implicit_guarded(State& s, StepReport& report, double h, int depth) {

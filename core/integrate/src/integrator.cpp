@@ -278,6 +278,7 @@ bool Integrator::step_implicit(State& s, StepReport& report, double h) {
         m_stiffness_age = 0;
         m_stiffness_cells = m_model->cell_version();
         m_spring_in_A.resize(0);
+        m_penalty_in_A.clear(); // A was rewritten: the last step's penalty blocks are gone
     } else {
         solve::multiply_symmetric(m_K, m_v_r, m_tmp, m_model->threads());
         ++m_stiffness_age;
@@ -291,6 +292,15 @@ bool Integrator::step_implicit(State& s, StepReport& report, double h) {
         m_spring_in_A.setZero(m_spring_diag.size());
     add_to_diagonal(m_A, h * h * m_spring_diag - m_spring_in_A);
     m_spring_in_A = h * h * m_spring_diag;
+    // Penalty points linearized at x: f(x_{n+1}) ~ f0 - K h (v + dv), f(v_{n+1}) = -D (v + dv -
+    // v_other), so + h^2 K + h D in A and h (f0 - h K v - D (v - v_other)) on the right
+    // (penalty.hpp).
+    undo_penalty_blocks(m_A, m_penalty_in_A);
+    if (evaluate_penalty(s.x, s.v, h, report)) {
+        add_penalty_forces(m_penalty_set, &s.v, h, m_model->dof_map(), h, m_rhs);
+        report.penalty_entries_dropped += int(add_penalty_blocks(
+            m_penalty_set, m_model->dof_map(), h * h, h, m_A, m_penalty_in_A));
+    }
     if (!m_rhs.allFinite()) {
         report.status = solve::SolveStatus::NonFinite;
         report.warnings.emplace_back("non-finite force or velocity");
@@ -339,8 +349,11 @@ bool Integrator::step_semi_implicit(State& s, StepReport& report) {
     // Springs per DOF, implicit in the new velocity (their stiffness is diagonal):
     // (M + h^2 K_s) v' = M v + h (f + f_s(x)).
     springs_reduced(s.x);
-    m_v_r = (M.cwiseProduct(m_v_r) + h * (m_rhs + m_spring_f))
-                .cwiseQuotient(M + h * h * m_spring_diag);
+    if (evaluate_penalty(s.x, s.v, h, report))
+        semi_implicit_penalty_velocity(s, h, M);
+    else
+        m_v_r = (M.cwiseProduct(m_v_r) + h * (m_rhs + m_spring_f))
+                    .cwiseQuotient(M + h * h * m_spring_diag);
     advance(m_model->dof_map(), m_v_r, h, s);
     return true;
 }
@@ -365,6 +378,7 @@ bool Integrator::step_static(State& s, StepReport& report) {
         springs_reduced(s.x);
         add_to_diagonal(m_K, m_spring_diag);
         m_rhs = m_fext_r + m_fint_r + m_spring_f;
+        static_penalty(s, report);
         m_dv.setZero(m_rhs.size());
         pass_coordinates(s.x);
         if (!linear_solve(m_K, m_rhs, m_dv, report))
@@ -382,6 +396,7 @@ bool Integrator::step_static(State& s, StepReport& report) {
         springs_reduced(s.x);
         add_to_diagonal(m_K, m_spring_diag);
         m_rhs = m_fext_r + m_fint_r + m_spring_f;
+        static_penalty(s, report);
         double rn = m_rhs.norm();
         if (it == 0)
             reference = std::max(fnorm, rn);
@@ -414,7 +429,7 @@ bool Integrator::step_static(State& s, StepReport& report) {
                 if (dof_map[k] != kNone)
                     work += m_fext_r(dof_map[k]) * x(Index(k));
             return m_model->elastic_energy(s.x, ForceMode::Corotated) - work
-                + spring_energy(m_springs, s.x);
+                + spring_energy(m_springs, s.x) + (m_penalty ? m_penalty->energy(s.x) : 0.0);
         };
         const double pi0 = potential();
         double step = 1.0;
@@ -426,7 +441,10 @@ bool Integrator::step_static(State& s, StepReport& report) {
                 break;
             assemble(s.x, ForceMode::Corotated, false, report);
             springs_reduced(s.x);
-            if ((m_fext_r + m_fint_r + m_spring_f).norm() < rn)
+            m_tmp = m_fext_r + m_fint_r + m_spring_f;
+            if (evaluate_penalty(s.x, s.v, 0.0, report))
+                add_penalty_forces(m_penalty_set, nullptr, 0.0, m_model->dof_map(), 1.0, m_tmp);
+            if (m_tmp.norm() < rn)
                 break;
             apply(m_dv, -step);
             step *= 0.5;

@@ -3,6 +3,7 @@
 #include "polycut/scene/scene.hpp"
 
 #include "json_reader.hpp"
+#include "scene_contact.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -463,6 +464,7 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
     if (s.cutting.method == "snap" && s.method != "tet")
         throw SceneError(
             "/cutting/method", "\"snap\" (face snapping, seed 002) needs method \"tet\"");
+    detail::parse_contact(r, s);
     if (r.has("camera"))
         s.camera = parse_camera(r.get("camera"), r.child("camera"));
     if (r.has("output")) {

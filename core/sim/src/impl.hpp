@@ -13,6 +13,14 @@
 #include <map>
 #include <memory>
 
+namespace polycut::contact {
+class ContactField; // contact.cpp and simulation.cpp see it whole
+struct Samples;
+}
+namespace polycut::embed {
+struct Embedding; // embedded.cpp
+}
+
 namespace polycut::sim {
 
 /// Nodes and weights a force or grab acts on (material points, fixed at creation).
@@ -100,6 +108,53 @@ struct Simulation::Impl {
     /// point can be from its nearest node (pick()).
     double max_cell_diameter = 0;
     std::vector<Vec3> positions; ///< world positions (#N) [m], mirror of state.x
+
+    // Contact (contact.cpp): the penalty field with the scene's obstacles and the tools,
+    // made when the scene has obstacles or the first tool arrives.
+    std::unique_ptr<contact::ContactField> contact;
+    struct Tool {
+        ToolSpec spec;
+        long body = 0; ///< id in `contact`
+        ToolPose pose; ///< where the client put it (applied at the next step)
+        ToolPose stepped; ///< where it was during the last step
+    };
+    std::map<long, Tool> tools;
+    std::vector<long> obstacle_bodies; ///< body id of each scene obstacle
+    std::vector<long> scripted_tools; ///< tool id of each scene tool (scene.tools)
+    std::uint64_t contact_samples_version = 0; ///< topology_version the samples were made at
+    std::vector<BodyReaction> reactions;
+    double contact_ms = 0;
+    /// Makes the contact field (once) and hands it to the integrator.
+    contact::ContactField& ensure_contact();
+    /// build(): the scene's obstacles (when it has any).
+    void build_obstacles();
+    // Embedded surface (embedded.cpp): the scene's detailed surface in the current mesh, and
+    // the cut lips of the mesh streamed with it.
+    std::unique_ptr<embed::Embedding> embedded;
+    std::vector<std::array<Index, 3>> embedded_triangles; ///< of the surface file
+    std::uint64_t embedded_version = 0; ///< topology_version the embedding belongs to
+    std::vector<Index> lip_vertex_nodes; ///< mesh node of each lip vertex
+    std::vector<std::uint32_t> lip_triangles; ///< (#T x 3) into the lip vertices
+    double embed_ms = 0; ///< wall time of the last (re-)embedding [ms]
+    /// build(): reads and embeds the scene's surface (when it names one).
+    void build_embedded();
+    /// Embeds the surface in the current mesh again after a topology change (a cut); the lips
+    /// come from the mesh's Cut faces.
+    void refresh_embedded();
+    /// Whether the embedded surface describes the current topology.
+    bool embedded_current() const;
+    /// The embedded surface (tag 1) plus the lips (tag 2).
+    void embedded_surface(Surface& out) const;
+    void embedded_positions(std::vector<float>& out) const;
+    /// Contact samples of the embedded surface and the lips.
+    contact::Samples embedded_samples() const;
+    /// After build(): the scene's scripted tools, through `owner`'s add_tool.
+    void build_scripted_tools(Simulation& owner);
+    /// Before a step of length dt: samples up to date with the topology, tools at their new
+    /// poses with the velocity of their motion since the last step.
+    void prepare_contact(double dt);
+    /// After a step: the reactions of the new state.
+    void measure_contact();
 
     void build();
     void rebuild_physics();

@@ -1,5 +1,6 @@
 // sim::Simulation queries: surface, probes, mesh figures, state hash, VTU output.
 #include "impl.hpp"
+#include "polycut/embed/embedding.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/cut/completeness.hpp"
 #include "polycut/geometry/affine_fit.hpp"
@@ -16,6 +17,10 @@ namespace polycut::sim {
 
 Surface Simulation::surface() const {
     Surface out;
+    if (m_impl->embedded_current()) {
+        m_impl->embedded_surface(out);
+        return out;
+    }
     out.topology_version = m_impl->topology_version;
     surface::gather_positions(m_impl->topology, m_impl->positions, out.positions);
     out.triangles = m_impl->topology.triangles;
@@ -24,6 +29,8 @@ Surface Simulation::surface() const {
 }
 
 void Simulation::surface_positions(std::vector<float>& out) const {
+    if (m_impl->embedded_current())
+        return m_impl->embedded_positions(out);
     surface::gather_positions(m_impl->topology, m_impl->positions, out);
 }
 

@@ -1,5 +1,7 @@
 // sim::Simulation: construction from a scene, stepping, forces and grabs.
 #include "impl.hpp"
+#include "polycut/contact/contact_field.hpp"
+#include "polycut/embed/embedding.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/polygon.hpp"
@@ -16,6 +18,7 @@ Simulation::Simulation(scene::Scene scene)
     m_impl->scene = std::move(scene);
     m_impl->initial_mesh = build_mesh(m_impl->scene, &m_impl->meshing);
     m_impl->build();
+    m_impl->build_scripted_tools(*this);
 }
 
 Simulation::~Simulation() = default;
@@ -57,15 +60,21 @@ void Simulation::Impl::build() {
     state = integrator->rest_state();
     forces.clear();
     grabs.clear();
+    tools.clear();
+    reactions.clear();
+    contact.reset();
+    build_obstacles();
     tick = 0;
     time = 0;
     static_solved = false;
     sync_positions();
     refresh_topology();
+    build_embedded();
 }
 
 void Simulation::reset() {
     m_impl->build();
+    m_impl->build_scripted_tools(*this);
     ++m_impl->topology_version;
 }
 
@@ -78,6 +87,7 @@ void Simulation::Impl::sync_positions() {
 void Simulation::Impl::refresh_topology() {
     topology = surface::extract_topology(mesh);
     ++topology_version;
+    refresh_embedded();
 }
 
 NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const {
@@ -167,12 +177,14 @@ StepReport Simulation::step() {
     StepReport r;
     const double dt = is_static() ? 0.0 : s.scene.integrator.dt;
     try {
+        s.refresh_embedded(); // after the undo of a failed cut
         s.assemble_external(s.time + dt);
         if (is_static() && s.static_solved) {
             // Equilibrium already holds for unchanged loads.
         } else {
             s.integrator->set_external_forces(s.f_ext);
             s.integrator->set_springs(s.grab_springs());
+            s.prepare_contact(dt);
             const integrate::StepReport ir = s.integrator->step(s.state);
             r.assembly_ms = ir.assembly_ms;
             r.solve_ms = ir.solve_ms;
@@ -182,8 +194,12 @@ StepReport Simulation::step() {
             r.rolled_back = ir.rolled_back;
             r.warnings = ir.warnings;
             s.static_solved = is_static() && !ir.rolled_back;
+            if (ir.penalty_entries_dropped > 0)
+                r.warnings.push_back(std::to_string(ir.penalty_entries_dropped)
+                    + " contact matrix entries outside the sparsity pattern were dropped");
         }
         s.sync_positions();
+        s.measure_contact();
     } catch (const std::exception& e) {
         // step() never throws: report and keep the last good state.
         r.warnings.push_back(std::string("step failed: ") + e.what());

@@ -48,6 +48,10 @@ inline constexpr double kMaxForce = 1.0e5; ///< each component of a force [N]
 inline constexpr double kMaxRadius = 1.0e2; ///< force / grab radius [m]
 inline constexpr double kMaxDuration = 1.0e6; ///< force duration [s]
 inline constexpr double kMaxStiffness = 1.0e9; ///< grab spring stiffness [N/m]
+/// Tool contact stiffness: contact pressure per penetration depth [N/m^3].
+inline constexpr double kMaxContactStiffness = 1.0e13;
+/// Tool Coulomb friction coefficient (dimensionless).
+inline constexpr double kMaxFriction = 10.0;
 /// Grab spring stiffness used when `grab.stiffness` is absent [N/m].
 inline constexpr double kDefaultGrabStiffness = 200.0;
 /// Smallest triangle quality (sweep.hpp) a sweep triangle may have.

@@ -28,16 +28,20 @@ enum class Method : std::uint8_t {
     GetSurface,
     GetStats,
     Shutdown,
+    ToolCreate,
+    ToolMove,
+    ToolRemove,
 };
 
 /// Number of methods.
-inline constexpr std::size_t kMethodCount = 18;
+inline constexpr std::size_t kMethodCount = 21;
 
 /// All methods in enum order.
 inline constexpr std::array<Method, kMethodCount> kAllMethods = { Method::Hello, Method::LoadScene,
     Method::Reset, Method::Pause, Method::Resume, Method::Step, Method::SetRate, Method::ApplyForce,
     Method::RemoveForce, Method::Grab, Method::MoveGrab, Method::Release, Method::Cut,
-    Method::Scalpel, Method::EndStroke, Method::GetSurface, Method::GetStats, Method::Shutdown };
+    Method::Scalpel, Method::EndStroke, Method::GetSurface, Method::GetStats, Method::Shutdown, Method::ToolCreate,
+    Method::ToolMove, Method::ToolRemove };
 
 /// Wire name, e.g. Method::ApplyForce -> "apply_force".
 std::string_view method_name(Method method);

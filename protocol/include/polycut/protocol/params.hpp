@@ -133,11 +133,46 @@ struct ShutdownParams {
     bool operator==(const ShutdownParams&) const = default;
 };
 
+/// A unit quaternion on the wire: [w, x, y, z] (normalized by the server; not all zero).
+using Quaternion = std::array<double, 4>;
+
+/// `tool_create`: a rigid tool the tissue cannot enter (penalty contact, docs/protocol.md
+/// "Tools"), in its own frame placed at `position` / `orientation`.
+struct ToolCreateParams {
+    /// "sphere" (a ball of `radius` at the origin), "capsule" (a shaft of `length` along local
+    /// z centred at the origin, `radius` around it) or "blade" (a box of edge lengths `size`)
+    std::string shape = "sphere";
+    std::optional<double> radius; ///< sphere, capsule: in (0, kMaxRadius] [m]
+    std::optional<double> length; ///< capsule: in [0, kMaxRadius] [m]
+    std::optional<Vector3> size; ///< blade: each in (0, kMaxRadius] [m]
+    Vector3 position {}; ///< tool frame origin [m], |component| <= kMaxCoordinate
+    std::optional<Quaternion> orientation; ///< absent = identity
+    /// penalty stiffness in (0, kMaxContactStiffness] [N/m^3]; absent = the scene's
+    std::optional<double> stiffness;
+    std::optional<double> friction; ///< Coulomb coefficient in [0, kMaxFriction]; absent = scene's
+    bool operator==(const ToolCreateParams&) const = default;
+};
+
+/// `tool_move`: the tool's new pose (sent at the input device's rate, usually as a
+/// notification); applied at the next tick boundary, the last one before a tick wins.
+struct ToolMoveParams {
+    std::uint64_t id = 0; ///< id returned by tool_create, in [1, 2^53)
+    Vector3 position {}; ///< [m]
+    std::optional<Quaternion> orientation; ///< absent = unchanged
+    bool operator==(const ToolMoveParams&) const = default;
+};
+
+/// `tool_remove`.
+struct ToolRemoveParams {
+    std::uint64_t id = 0; ///< id returned by tool_create, in [1, 2^53)
+    bool operator==(const ToolRemoveParams&) const = default;
+};
+
 /// The params of any method; `index()` equals the Method enum value.
 using Params = std::variant<HelloParams, LoadSceneParams, ResetParams, PauseParams, ResumeParams,
     StepParams, SetRateParams, ApplyForceParams, RemoveForceParams, GrabParams, MoveGrabParams,
     ReleaseParams, CutParams, ScalpelParams, EndStrokeParams, GetSurfaceParams, GetStatsParams,
-    ShutdownParams>;
+    ShutdownParams, ToolCreateParams, ToolMoveParams, ToolRemoveParams>;
 
 /// The method whose params these are.
 inline Method method_of(const Params& params) {

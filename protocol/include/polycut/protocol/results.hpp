@@ -48,13 +48,13 @@ struct RunState {
     bool operator==(const RunState&) const = default;
 };
 
-/// `remove_force`, `move_grab`, `release`, `shutdown` result.
+/// `remove_force`, `move_grab`, `release`, `shutdown`, `tool_move`, `tool_remove` result.
 struct Ack {
     std::int64_t tick = 0;
     bool operator==(const Ack&) const = default;
 };
 
-/// `apply_force`, `grab` result: the new object's id (server-assigned, in [1, 2^53)).
+/// `apply_force`, `grab`, `tool_create` result: the new object's id (server-assigned, in [1, 2^53)).
 struct Created {
     std::uint64_t id = 0;
     std::int64_t tick = 0;
@@ -113,6 +113,11 @@ struct Stats {
     std::uint64_t events_suppressed = 0;
     /// Messages answered -32004 (rate or JSON byte budget), notifications included.
     std::uint64_t busy = 0;
+    std::uint32_t tools = 0; ///< active tools (tool_create)
+    /// What the tissue does to every tool and obstacle after the last tick (as the stream's
+    /// `contacts`)
+    std::vector<ContactReport> contacts;
+    double contact_ms = 0.0; ///< contact work of the last tick [ms]
     bool operator==(const Stats&) const = default;
 };
 

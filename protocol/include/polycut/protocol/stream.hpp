@@ -7,6 +7,7 @@
 #include "polycut/protocol/frames.hpp"
 #include "polycut/protocol/request_id.hpp"
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -33,6 +34,20 @@ struct StepReport {
     bool operator==(const StepReport&) const = default;
 };
 
+/// What the tissue does to a tool or an obstacle (penalty contact) in the state of a frame:
+/// the force a haptic device renders.
+struct ContactReport {
+    std::string kind = "tool"; ///< "tool" or "obstacle"
+    std::uint64_t id = 0; ///< the tool's id (tool_create), or the obstacle's index in the scene
+    std::array<double, 3> force {}; ///< force of the tissue on the body [N]
+    /// torque about the tool frame origin (an obstacle: its centre, point or axis midpoint)
+    /// [N m]
+    std::array<double, 3> torque {};
+    std::uint32_t points = 0; ///< tissue samples inside the body
+    double depth = 0.0; ///< deepest penetration [m]
+    bool operator==(const ContactReport&) const = default;
+};
+
 /// Header of a surface frame and of the get_surface snapshot.
 struct SurfaceHeader {
     std::uint64_t seq = 0; ///< stream sequence number, +1 per published frame
@@ -46,6 +61,8 @@ struct SurfaceHeader {
     std::vector<RequestId> applied; ///< ids of requests applied at this tick's boundary
     /// sweep triangles waiting for the next tick's cut (past this tick's cut budget)
     std::uint32_t cut_deferred = 0;
+    /// every tool, then every obstacle of the scene (omitted on the wire when empty)
+    std::vector<ContactReport> contacts;
     bool operator==(const SurfaceHeader&) const = default;
 };
 

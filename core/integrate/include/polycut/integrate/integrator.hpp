@@ -6,6 +6,7 @@
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/integrate/linear_solver.hpp"
 #include "polycut/integrate/options.hpp"
+#include "polycut/integrate/penalty.hpp"
 #include "polycut/integrate/springs.hpp"
 #include "polycut/solve/background_cholesky.hpp"
 
@@ -28,6 +29,11 @@ public:
     /// enter the step (implicit in ImplicitEuler and Static, per-node implicit in
     /// SemiImplicitEuler), so they are stable for any stiffness. Replaces the previous set.
     void set_springs(std::vector<NodeSpring> springs);
+    /// Penalty forces evaluated inside every (sub)step from its start state (contact,
+    /// penalty.hpp): their stiffness and friction damping enter the system matrix as 3x3 blocks
+    /// (implicit Euler, static) or per node (semi-implicit Euler). nullptr: none. Not owned;
+    /// must outlive the steps it is set for.
+    void set_penalty_field(PenaltyField* field) { m_penalty = field; }
     /// Advances `state` by one step (dt; Static: to equilibrium). Never throws.
     StepReport step(State& state);
     /// Total energy [J]: kinetic 1/2 v^T M v + elastic (force mode of the options).
@@ -96,6 +102,18 @@ private:
     /// Reduced spring forces at x into m_spring_f, their stiffness into m_spring_diag.
     void springs_reduced(const MatX3& x);
     VecX m_spring_f;
+    PenaltyField* m_penalty = nullptr;
+    PenaltySet m_penalty_set;
+    /// What the penalty blocks currently add to m_A's values (undone before the next step's).
+    std::vector<std::pair<Index, double>> m_penalty_in_A, m_penalty_scratch;
+    std::vector<Mat3> m_node_blocks; ///< semi-implicit: per-node penalty blocks
+    /// Evaluates the penalty field for a step of h from x, v; false when no point is active.
+    bool evaluate_penalty(const MatX3& x, const MatX3& v, double h, StepReport& report);
+    /// Static: the penalty force at s.x into m_rhs and its stiffness into the tangent m_K.
+    void static_penalty(const State& s, StepReport& report);
+    /// Semi-implicit Euler with penalty points: m_v_r <- the new velocity, each node solving
+    /// its own 3x3 system (M + h^2 K_s + h^2 K_node + h D_node) dv = h (f + f_s + f_c - ...).
+    void semi_implicit_penalty_velocity(const State& s, double h, const VecX& M);
     std::uint64_t m_topology = ~std::uint64_t(0);
     std::vector<Index> m_dof_map_then; ///< the model's dof map at m_topology
     double m_divergence_limit = 0;

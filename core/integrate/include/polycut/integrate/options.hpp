@@ -129,6 +129,11 @@ struct StepReport {
     bool rolled_back = false; ///< the state was restored to its value before the step
     /// energy_guard: substeps the step was split into (1 when it was not)
     int substeps = 1;
+    /// Penalty points (contacts) in the last evaluation of the penalty field
+    int penalty_points = 0;
+    /// Penalty matrix entries that fell outside the sparsity pattern and were dropped (0 when
+    /// every point's nodes share a cell)
+    int penalty_entries_dropped = 0;
 };
 
 } // namespace polycut::integrate

@@ -198,6 +198,63 @@ struct Output {
     long vtu_every = 10; ///< write every k-th frame with --vtu
 };
 
+/// A rigid obstacle the tissue cannot enter (penalty contact, issue 15 item 1; docs/scenes.md
+/// "obstacles"). Fixed in the world.
+struct Obstacle {
+    enum class Kind { Plane, Box, Sphere, Capsule, Mesh };
+    Kind kind = Kind::Plane;
+    std::string name; ///< optional label (reports)
+    /// Plane: a point on it; box, sphere: the centre; mesh: the translation [m]
+    Vec3 point = Vec3::Zero();
+    Vec3 normal = Vec3::UnitZ(); ///< Plane: unit normal pointing out of the solid side
+    Vec3 size = Vec3::Constant(0.1); ///< Box: edge lengths [m]
+    /// Box and mesh: rotation as an axis-angle vector (axis times angle) [rad]
+    Vec3 rotation = Vec3::Zero();
+    double radius = 0.01; ///< Sphere, capsule [m]
+    Vec3 a = Vec3::Zero(), b = Vec3::UnitZ(); ///< Capsule: axis endpoints [m]
+    std::string path; ///< Mesh: closed surface file, relative to the scene file
+    double scale = 1.0; ///< Mesh: file units to metres
+    /// Penalty stiffness [N/m^3] and Coulomb friction coefficient of this obstacle; absent:
+    /// the scene's `contact` values
+    std::optional<double> stiffness, friction;
+};
+
+/// A tool the scene moves itself along keyframes (docs/scenes.md "tools"): what a client
+/// would do with tool_create / tool_move, built into the scene so the runner and a recording
+/// replay it without a client.
+struct ScriptedTool {
+    std::string shape = "sphere"; ///< "sphere", "capsule" or "blade" (sim::ToolSpec)
+    double radius = 0.005; ///< sphere, capsule [m]
+    double length = 0.05; ///< capsule axis length [m]
+    Vec3 size = Vec3(0.03, 0.01, 0.001); ///< blade edge lengths [m]
+    std::optional<double> stiffness, friction; ///< absent: the scene's `contact` values
+    struct Key {
+        double t = 0; ///< simulated time [s], increasing along the keys
+        Vec3 position = Vec3::Zero(); ///< tool frame origin [m]
+        Eigen::Vector4d orientation { 1, 0, 0, 0 }; ///< unit quaternion [w, x, y, z]
+    };
+    /// Poses in time: linear between keys (orientations slerped), held before the first and
+    /// after the last
+    std::vector<Key> keys;
+};
+
+/// Contact settings (docs/scenes.md "contact"). Absent values take contact::ContactParams'
+/// defaults (the one place they are set).
+struct Contact {
+    std::optional<double> stiffness; ///< penalty pressure per penetration depth [N/m^3]
+    std::optional<double> friction; ///< Coulomb coefficient (dimensionless)
+    std::optional<double> slip_velocity; ///< friction's regularization speed [m/s]
+    /// Contact between the pieces a cut separated: penalty stiffness [N/m^3]; 0 = off
+    double self_stiffness = 0;
+};
+
+/// A detailed surface embedded in the simulation mesh (docs/scenes.md "embedded", issue 15
+/// item 2): streamed and rendered instead of the mesh's boundary, sampled by contact.
+struct Embedded {
+    std::string path; ///< surface file (OFF/OBJ/STL/PLY) relative to the scene file
+    double scale = 1.0; ///< file units to metres
+};
+
 /// A whole scene.
 struct Scene {
     std::string name;
@@ -213,6 +270,10 @@ struct Scene {
     Loads loads;
     std::vector<Probe> probes;
     Cutting cutting;
+    std::vector<Obstacle> obstacles;
+    std::vector<ScriptedTool> tools;
+    Contact contact;
+    std::optional<Embedded> embedded;
     Camera camera;
     Output output;
 };

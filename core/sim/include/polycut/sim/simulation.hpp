@@ -5,6 +5,7 @@
 
 #include "polycut/common/types.hpp"
 #include "polycut/scene/scene.hpp"
+#include "polycut/sim/tools.hpp"
 
 #include <array>
 #include <cstdint>
@@ -188,6 +189,19 @@ public:
     long grab(const GrabSpec& g);
     bool move_grab(long id, const Vec3& target);
     bool release(long id);
+
+    /// Rigid tools (tools.hpp): created at a pose, moved to a new pose (applied at the next
+    /// step), removed. add_tool and move_tool throw InputError (non-finite or out-of-range
+    /// numbers, a zero quaternion) without change; move/remove return false for an unknown id.
+    long add_tool(const ToolSpec& tool);
+    bool move_tool(long id, const ToolPose& pose);
+    bool remove_tool(long id);
+    std::size_t tool_count() const;
+    /// The reaction on every tool and obstacle in the state after the last step (tools first,
+    /// by id; then obstacles in scene order). Empty when the scene has neither.
+    const std::vector<BodyReaction>& contact_reactions() const;
+    /// Wall time of the contact work of the last step (detection and the reactions) [ms].
+    double contact_ms() const;
 
     /// Cuts along world-space sweep triangles; never throws. The summary's status says what
     /// happened: Rejected (non-finite, absurdly distant or degenerate triangles; nothing
