@@ -5,7 +5,9 @@
 #include "polycut/mesh/builders.hpp"
 #include "polycut/mesh/validate.hpp"
 
+#include <cmath>
 #include <gtest/gtest.h>
+#include <random>
 
 using namespace polycut;
 
@@ -76,4 +78,36 @@ TEST(WorldToRest, InvertsAffineDeformation) {
         area += 0.5 * (r[1] - r[0]).cross(r[2] - r[0]).norm();
     const Vec3 p0(0.01, 0.01, 0.01), p1(0.09, 0.02, 0.05), p2(0.04, 0.09, 0.08);
     EXPECT_NEAR(area, 0.5 * (p1 - p0).cross(p2 - p0).norm(), 1e-12);
+}
+
+TEST(WorldToRest, NearRefitFindsExactlyTheCellsTheFullGridFinds) {
+    // A bent block (non-affine: every cell's bounds move differently); boxes inside the region
+    // give the same candidates through refit_near() as through the grid of refit().
+    auto m = block(6);
+    std::vector<Vec3> world;
+    for (const Vec3& X : m.rest)
+        world.push_back(X + Vec3(0.02 * std::sin(20 * X.z()), 0.0, 0.03 * X.x() * X.x()));
+    cut::WorldToRest grid(m), near(m);
+    grid.refit(world, false);
+    geometry::Aabb region;
+    region.extend(Vec3(0.02, 0.03, 0.04));
+    region.extend(Vec3(0.07, 0.06, 0.09));
+    ASSERT_TRUE(near.refit_near(world, region));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    int nonempty = 0;
+    for (int k = 0; k < 200; ++k) {
+        geometry::Aabb box;
+        for (int e = 0; e < 2; ++e)
+            box.extend(
+                region.lo + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(region.hi - region.lo));
+        const auto a = grid.candidates(box), b = near.candidates(box);
+        EXPECT_EQ(a, b) << "box " << k;
+        nonempty += a.empty() ? 0 : 1;
+    }
+    EXPECT_GT(nonempty, 150);
+    // More cells than allowed: the whole grid is refitted instead, with the same answers.
+    cut::WorldToRest capped(m);
+    EXPECT_FALSE(capped.refit_near(world, region, 3));
+    EXPECT_EQ(capped.candidates(region), grid.candidates(region));
 }

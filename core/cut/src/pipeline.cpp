@@ -188,7 +188,11 @@ struct CutPipeline::Impl {
                 if (!world_grid)
                     world_grid = std::make_unique<WorldToRest>(mesh);
                 if (!located) {
-                    world_grid->refit(positions, false);
+                    // Only the cells around this call's triangles are indexed.
+                    geometry::Aabb region;
+                    for (std::size_t u = t; u < world.size(); ++u)
+                        region.extend(triangle_box(world[u]));
+                    world_grid->refit_near(positions, region);
                     located = true;
                 }
                 const std::vector<Index> near = world_grid->candidates(triangle_box(tri));

@@ -19,7 +19,28 @@ void WorldToRest::refit_displaced(const MatX3& u) {
     refit(world);
 }
 
+bool WorldToRest::refit_near(
+    std::span<const Vec3> world, const geometry::Aabb& region, std::size_t max_cells) {
+    m_near.clear();
+    for (std::size_t c = 0; c < m_mesh.cells.size(); ++c) {
+        geometry::Aabb box;
+        for (Index n : m_mesh.cells[c].nodes)
+            box.extend(world[std::size_t(n)]);
+        if (box.overlaps(region))
+            m_near.emplace_back(Index(c), box);
+    }
+    if (m_near.size() > max_cells) {
+        m_near.clear();
+        refit(world, false);
+        return false;
+    }
+    m_near_only = true;
+    m_bucket_start.clear(); // the grid is stale: map_point() and locate() need refit()
+    return true;
+}
+
 void WorldToRest::refit(std::span<const Vec3> world, bool with_fits) {
+    m_near_only = false;
     // O(mesh) but allocation-free after the first call: the grid is called once per cut.
     m_world.assign(world.begin(), world.end());
     const std::size_t nc = m_mesh.cells.size();
@@ -80,6 +101,12 @@ Eigen::Vector3i WorldToRest::bucket(const Vec3& x) const {
 
 std::vector<Index> WorldToRest::candidates(const geometry::Aabb& box) const {
     std::vector<Index> out;
+    if (m_near_only) {
+        for (const auto& [c, cell_box] : m_near)
+            if (cell_box.overlaps(box))
+                out.push_back(c);
+        return out;
+    }
     if (m_bucket_start.size() < 2 || !box.overlaps(m_all))
         return out;
     const auto lo = bucket(box.lo), hi = bucket(box.hi);

@@ -24,6 +24,13 @@ public:
     /// `with_fits` false only the deformed bounds and the grid are refitted (for candidates());
     /// map_point(), locate() and map_triangle() then need a full refit first.
     void refit(std::span<const Vec3> world, bool with_fits = true);
+    /// For candidates() only, around a blade: indexes just the cells whose deformed bounds
+    /// overlap `region` [m] (one pass over the cells' nodes, no grid over all of them; issue 12
+    /// item 5). candidates() of a box inside `region` then returns exactly what it returns
+    /// after refit(). Returns false, and refits the whole grid instead, when more than
+    /// `max_cells` cells overlap (a long cut request: a linear filter per query would cost more).
+    bool refit_near(
+        std::span<const Vec3> world, const geometry::Aabb& region, std::size_t max_cells = 4096);
     /// Same with displacements u (#N x 3) [m]: world = rest + u.
     void refit_displaced(const MatX3& u);
 
@@ -53,6 +60,8 @@ private:
     std::vector<Index> m_bucket_start; ///< (#buckets + 1) offsets into m_bucket_cells
     std::vector<Index> m_bucket_cells; ///< cells per bucket, bucket after bucket
     std::vector<Index> m_fill; ///< work array of refit()
+    bool m_near_only = false; ///< refit_near(): only m_near is valid
+    std::vector<std::pair<Index, geometry::Aabb>> m_near; ///< cells (ascending) near the region
 
     Eigen::Vector3i bucket(const Vec3& x) const;
     double depth_outside(Index c, const Vec3& X) const;
