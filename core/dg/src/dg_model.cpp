@@ -23,19 +23,6 @@ namespace polycut::dg {
 namespace {
 constexpr double kSign[2] = { 1.0, -1.0 };
 
-/// Replaces every 3x3 block B of M by R B R^T.
-void rotate_blocks(MatX& M, const Mat3& R) {
-    for (Index i = 0; i < M.rows(); i += 3)
-        for (Index j = 0; j < M.cols(); j += 3)
-            M.block<3, 3>(i, j) = R * M.block<3, 3>(i, j) * R.transpose();
-}
-
-/// Rotates every 3-row of a flat vector by R.
-void rotate_rows(VecX& v, const Mat3& R) {
-    for (Index i = 0; i < v.size(); i += 3)
-        v.segment<3>(i) = R * v.segment<3>(i);
-}
-
 } // namespace
 
 DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
@@ -96,6 +83,7 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
         m_face_eta[std::size_t(f)] = fd.eta;
         m_faces.push_back(std::move(fd));
     }
+    build_operator();
 }
 
 double DgModel::face_penalty(Index f) const {
@@ -162,13 +150,6 @@ MatX DgModel::penalty_block(const FaceData& fd, int s, int t) const {
     return B;
 }
 
-solve::SparseMatrix DgModel::stiffness() const {
-    DgModel& self = const_cast<DgModel&>(*this); // assemble() only caches rotations in Linear mode
-    solve::SparseMatrix K;
-    self.assemble(m_rest, Warp::Linear, &K, nullptr);
-    return K;
-}
-
 Mat3 DgModel::fit_rotation(const MatX3& x, Index cell, const Mat3& guess) const {
     // Affine part of the cell's map: the L2 projection onto P1, rows 0..3 (the first four
     // orthonormal functions span P1); its gradient F = sum_{i=1..3} x_i grad(phi_i)^T.
@@ -177,98 +158,6 @@ Mat3 DgModel::fit_rotation(const MatX3& x, Index cell, const Mat3& guess) const 
     for (int i = 1; i <= 3; ++i)
         F += x.row(offset(cell) + i).transpose() * (b.T.block<1, 3>(i, 1) / b.scale);
     return elasticity::polar_rotation_warm(F, guess);
-}
-
-void DgModel::assemble(const MatX3& x, Warp warp, solve::SparseMatrix* K, VecX* f_int) {
-    const Index n = 3 * m_num_coeffs;
-    const bool corotated = warp == Warp::Corotated;
-    std::vector<Eigen::Triplet<double, int>> triplets;
-    if (f_int)
-        f_int->setZero(n);
-    if (corotated)
-        for (Index c = 0; c < num_cells(); ++c)
-            m_rotation[std::size_t(c)] = fit_rotation(x, c, m_rotation[std::size_t(c)]);
-
-    // Local displacement of the listed cells' rows in the frame R (R^T x - X0), flattened.
-    auto local = [&](std::span<const Index> cells, const Mat3& R) {
-        Index rows = 0;
-        for (Index c : cells)
-            rows += basis(c).size();
-        VecX u(3 * rows);
-        Index k = 0;
-        for (Index c : cells)
-            for (int i = 0; i < basis(c).size(); ++i, ++k)
-                u.segment<3>(3 * k) = R.transpose() * x.row(offset(c) + i).transpose()
-                    - m_rest.row(offset(c) + i).transpose();
-        return u;
-    };
-    // Scatter a local matrix/vector over the listed cells' rows.
-    auto scatter = [&](std::span<const Index> cells, const MatX* M, const VecX* f) {
-        std::vector<Index> dofs;
-        for (Index c : cells)
-            for (int i = 0; i < 3 * basis(c).size(); ++i)
-                dofs.push_back(3 * offset(c) + i);
-        if (M && K)
-            for (Index j = 0; j < M->cols(); ++j)
-                for (Index i = 0; i < M->rows(); ++i)
-                    triplets.emplace_back(
-                        int(dofs[std::size_t(i)]), int(dofs[std::size_t(j)]), (*M)(i, j));
-        if (f && f_int)
-            for (Index i = 0; i < f->size(); ++i)
-                (*f_int)[dofs[std::size_t(i)]] += (*f)[i];
-    };
-    const Mat3 I = Mat3::Identity();
-
-    for (Index c = 0; c < num_cells(); ++c) {
-        const Mat3& R = corotated ? m_rotation[std::size_t(c)] : I;
-        const Index cells[1] = { c };
-        MatX M = m_volume_K[std::size_t(c)];
-        VecX f = -(M * local(cells, R));
-        rotate_rows(f, R);
-        if (corotated)
-            rotate_blocks(M, R);
-        scatter(cells, &M, &f);
-    }
-    for (const FaceData& fd : m_faces) {
-        const int sides = fd.integrals.sides;
-        const std::span<const Index> cells(fd.cells, std::size_t(sides));
-        std::array<Index, 2> size { 3 * basis(fd.cells[0]).size(),
-            sides == 2 ? 3 * basis(fd.cells[1]).size() : 0 };
-        const Index total = size[0] + size[1];
-        // Penalty: unrotated (003 sec. 7: corotation corrects strains; the jump needs none).
-        MatX pen(total, total);
-        for (int s = 0; s < sides; ++s)
-            for (int t = 0; t < sides; ++t)
-                pen.block(
-                    s ? size[0] : 0, t ? size[0] : 0, size[std::size_t(s)], size[std::size_t(t)])
-                    = penalty_block(fd, s, t);
-        VecX f = -(pen * local(cells, I));
-        scatter(cells, &pen, &f);
-        if (m_options.flux != Flux::InteriorPenalty)
-            continue;
-        // Consistency and symmetry terms, split by the side t whose strain they carry (K_f1^t,
-        // K_f2^t of 003 sec. 7), each warped with that side's rotation.
-        for (int t = 0; t < sides; ++t) {
-            MatX M = MatX::Zero(total, total);
-            for (int s = 0; s < sides; ++s) {
-                const MatX A = consistency_block(fd, s, t);
-                const Index rs = s ? size[0] : 0, rt = t ? size[0] : 0;
-                M.block(rs, rt, A.rows(), A.cols()) -= A;
-                M.block(rt, rs, A.cols(), A.rows()) -= A.transpose();
-            }
-            const Mat3& R = corotated ? m_rotation[std::size_t(fd.cells[t])] : I;
-            VecX ft = -(M * local(cells, R));
-            rotate_rows(ft, R);
-            if (corotated)
-                rotate_blocks(M, R);
-            scatter(cells, &M, &ft);
-        }
-    }
-    if (K) {
-        K->resize(int(n), int(n));
-        K->setFromTriplets(triplets.begin(), triplets.end());
-        K->makeCompressed();
-    }
 }
 
 VecX DgModel::body_load(const Vec3& b) const {

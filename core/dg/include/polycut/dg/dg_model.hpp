@@ -14,6 +14,7 @@
 #include "polycut/dg/face_integrals.hpp"
 #include "polycut/dg/options.hpp"
 #include "polycut/elasticity/material.hpp"
+#include "polycut/elasticity/model.hpp"
 #include "polycut/mesh/mesh.hpp"
 #include "polycut/solve/sparse.hpp"
 
@@ -29,8 +30,11 @@ enum class Warp {
                ///< they carry, penalty unrotated
 };
 
-/// The DG model. Holds a pointer to the mesh, which must outlive it.
-class DgModel {
+/// The DG model. Holds a pointer to the mesh, which must outlive it. As an elasticity::Model
+/// (what the integrator steps, docs/decisions/0021) its rows are the coefficient rows, all free
+/// (Dirichlet conditions are weak), with a fixed sparsity pattern: cell blocks coupled through
+/// shared faces.
+class DgModel : public elasticity::Model {
 public:
     /// dirichlet_faces: boundary faces with u = 0 imposed weakly (Nitsche with the same flux and
     /// penalty as interior faces; BZ: penalty only). Throws InputError for bad options or
@@ -39,7 +43,7 @@ public:
         std::vector<Index> dirichlet_faces = {});
 
     const mesh::Mesh& mesh() const { return *m_mesh; }
-    const elasticity::Material& material() const { return m_material; }
+    const elasticity::Material& material() const override { return m_material; }
     const DgOptions& options() const { return m_options; }
     Index num_cells() const { return Index(m_bases.size()); }
     /// Number of coefficient rows (#coeffs); DOFs = 3 #coeffs.
@@ -78,6 +82,35 @@ public:
     /// (zero for the default g = 0).
     VecX dirichlet_load(const Vec3& g0, const Mat3& G) const;
 
+    // elasticity::Model (docs/decisions/0021)
+    Index num_rows() const override { return m_num_coeffs; }
+    void rest_rows(MatX3& X0) const override { X0 = m_rest; }
+    const VecX& row_mass() const override { return m_mass; }
+    /// Gravity acts on row 0 of each cell only: int_K rho g phi_i = rho g |K| delta_i0.
+    void add_gravity(const Vec3& g, VecX& full) const override;
+    Index num_free_dofs() const override { return 3 * m_num_coeffs; }
+    const std::vector<Index>& dof_map() const override { return m_dof_map; }
+    const VecX& reduced_mass() const override { return m_reduced_mass; }
+    void reduce(const VecX& full, VecX& reduced) const override { reduced = full; }
+    solve::SparseMatrix make_matrix() const override { return m_pattern; }
+    void assemble(const MatX3& x, elasticity::ForceMode mode, solve::SparseMatrix* K,
+        VecX* f_int) override {
+        assemble(x, mode == elasticity::ForceMode::Corotated ? Warp::Corotated : Warp::Linear, K,
+            f_int);
+    }
+    /// 1/2 u^T K u (Linear) or the sum over the corotated terms of 1/2 u_R^T K_term u_R with
+    /// rotations fitted at x (warm-started from the cached ones) [J].
+    double elastic_energy(const MatX3& x, elasticity::ForceMode mode) const override;
+    /// Squared largest singular value of each cell's affine part F (rows 1-3).
+    void cell_stretch_squared(const MatX3& x, std::vector<double>& out) const override;
+    double max_cell_stretch(const MatX3& x) const override;
+    std::uint64_t topology_version() const override { return 0; }
+    bool nodes_kept_since(std::uint64_t) const override { return true; }
+    std::uint64_t cell_version() const override { return 0; }
+    void set_threads(int) override {}
+    int threads() const override { return 1; }
+    bool rows_are_points() const override { return false; }
+
     /// Displacement u at rest point X in cell c from generalised positions x [m].
     Vec3 displacement(const MatX3& x, Index cell, const Vec3& X) const;
     /// Displacement gradient du/dX there.
@@ -94,6 +127,29 @@ private:
     MatX consistency_block(const FaceData& fd, int s, int t) const;
     MatX penalty_block(const FaceData& fd, int s, int t) const;
     MatX volume_stiffness(const CellBasis& b) const;
+    /// Builds the pattern, the constant penalty matrix, the per-cell corotated blocks and the
+    /// linear stiffness (dg_assembly.cpp).
+    void build_operator();
+    /// Value slot of entry (row dof i, column dof j) in m_pattern.
+    int slot(Index i, Index j) const;
+
+    /// The part of the operator carried by cell c's strain, warped with R_c (003 sec. 7): the
+    /// diagonal block (volume term plus the consistency terms of c's faces on c) and, per face
+    /// neighbour d, the block coupling d's rows to c's columns (its transpose is the (c, d)
+    /// block). Slots index m_pattern's values, column-major over each block.
+    struct CellTerms {
+        MatX diagonal; ///< 3nb_c x 3nb_c
+        std::vector<int> diagonal_slots;
+        std::vector<Index> neighbours;
+        std::vector<MatX> off; ///< per neighbour d: 3nb_d x 3nb_c
+        std::vector<std::vector<int>> off_slots, off_slots_t; ///< (d, c) and (c, d) entries
+    };
+    std::vector<CellTerms> m_terms;
+    solve::SparseMatrix m_pattern; ///< zero values
+    solve::SparseMatrix m_penalty; ///< the unrotated penalty terms, pattern of m_pattern
+    solve::SparseMatrix m_linear; ///< the linear stiffness, pattern of m_pattern
+    std::vector<Index> m_dof_map; ///< identity
+    VecX m_reduced_mass; ///< mass per DOF
 
     const mesh::Mesh* m_mesh;
     elasticity::Material m_material;

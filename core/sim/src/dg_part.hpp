@@ -1,0 +1,38 @@
+// The DG side of sim::Simulation (method "dg", seed 003, docs/decisions/0021): the DG model the
+// integrator steps (its state rows are polynomial coefficients, not nodes), the stitching that
+// turns them into nodal positions for the surface, picking and the VTU output, the scene's
+// loads as coefficient loads, and the MLS embedding of points that are not nodes.
+#pragma once
+
+#include "polycut/dg/dg_model.hpp"
+#include "polycut/dg/embedding.hpp"
+#include "polycut/scene/scene.hpp"
+
+#include <memory>
+
+namespace polycut::sim {
+
+struct DgPart {
+    std::unique_ptr<dg::DgModel> model;
+    std::unique_ptr<dg::Stitching> stitching;
+    VecX scene_load; ///< (3#coeffs) the scene's constant loads [N]
+    VecX load; ///< (3#coeffs) work vector [N]
+};
+
+/// The DG options of a scene (basis.degree, dg.flux, dg.penalty, dg.lambda_penalty).
+dg::DgOptions dg_options(const scene::Scene& s);
+
+/// Boundary faces of the scene's fixed sets (all nodes selected), where u = 0 is imposed
+/// weakly (Nitsche). Throws SceneError for a set fixing a single node or only some components
+/// (DG DOFs are not nodal) and for a set that selects no boundary face.
+std::vector<Index> dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m);
+
+/// Builds the DG model, its stitching and the scene's loads: area forces and pressures as
+/// exact face tractions, point and uniform forces through the stitching's adjoint.
+std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m);
+
+/// Displacement [m] at a rest point: the stitched value at a node (003 eq. 17), the MLS
+/// embedding elsewhere (003 eq. 18-19); zero when the point is not near the tissue.
+Vec3 dg_point_displacement(const DgPart& dg, const MatX3& x, const Vec3& X);
+
+} // namespace polycut::sim
