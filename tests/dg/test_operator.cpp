@@ -63,6 +63,7 @@ TEST(DgOperator, InteriorPenaltyBelowThresholdIsIndefiniteAndCholeskySaysSo) {
     const mesh::Mesh m = test::box_mesh(Kind::Hex, 2);
     DgOptions o;
     o.penalty = 0.05;
+    o.dirichlet_penalty = 0.05;
     const DgModel ip(m, material(), o, test::faces_on_plane(m, 0, 0.0));
     EXPECT_LT(extreme_eigenvalues(ip.stiffness()).first, 0);
     EXPECT_EQ(cholesky(ip.stiffness()), solve::SolveStatus::NotPositiveDefinite);

@@ -26,7 +26,8 @@ constexpr double kSign[2] = { 1.0, -1.0 };
 } // namespace
 
 DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
-    const DgOptions& options, std::vector<Index> dirichlet_faces)
+    const DgOptions& options, std::vector<Index> dirichlet_faces,
+    std::vector<std::uint8_t> dirichlet_axes)
     : m_mesh(&mesh)
     , m_material(material)
     , m_options(options)
@@ -36,6 +37,16 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
         throw InputError("basis.degree", "DG degree must be 1 or 2");
     if (!(options.penalty > 0) || !std::isfinite(options.penalty))
         throw InputError("penalty", "DG penalty alpha must be positive and finite");
+    if (!(options.dirichlet_penalty > 0) || !std::isfinite(options.dirichlet_penalty))
+        throw InputError(
+            "dirichlet_penalty", "DG Dirichlet penalty alpha must be positive and finite");
+    if (!dirichlet_axes.empty() && dirichlet_axes.size() != m_dirichlet.size())
+        throw InputError("dirichlet_axes", "needs one entry per Dirichlet face");
+    std::vector<std::uint8_t> axes_of(std::size_t(mesh.num_faces()), 0);
+    for (std::size_t k = 0; k < m_dirichlet.size(); ++k)
+        if (m_dirichlet[k] >= 0 && m_dirichlet[k] < mesh.num_faces())
+            axes_of[std::size_t(m_dirichlet[k])]
+                |= dirichlet_axes.empty() ? std::uint8_t(7) : dirichlet_axes[k];
     std::sort(m_dirichlet.begin(), m_dirichlet.end());
     m_dirichlet.erase(std::unique(m_dirichlet.begin(), m_dirichlet.end()), m_dirichlet.end());
     for (Index f : m_dirichlet)
@@ -79,7 +90,11 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
         double volume = m_bases[std::size_t(face.owner)].volume;
         if (!face.boundary())
             volume = std::min(volume, m_bases[std::size_t(face.neighbour)].volume);
-        fd.eta = options.penalty * p2 * fd.integrals.area / volume;
+        fd.eta = (dirichlet ? options.dirichlet_penalty : options.penalty) * p2
+            * fd.integrals.area / volume;
+        if (dirichlet)
+            for (int a = 0; a < 3; ++a)
+                fd.axes[a] = (axes_of[std::size_t(f)] >> a) & 1 ? 1.0 : 0.0;
         m_face_eta[std::size_t(f)] = fd.eta;
         m_faces.push_back(std::move(fd));
     }
@@ -127,7 +142,7 @@ MatX DgModel::consistency_block(const FaceData& fd, int s, int t) const {
         for (Index j = 0; j < nt; ++j)
             for (int a = 0; a < 3; ++a)
                 for (int c = 0; c < 3; ++c)
-                    A(3 * i + a, 3 * j + c) = w
+                    A(3 * i + a, 3 * j + c) = w * fd.axes[a]
                         * (lambda * n[a] * P[std::size_t(c)](i, j)
                             + mu * n[c] * P[std::size_t(a)](i, j) + (a == c ? mu * nP(i, j) : 0.0));
     return A;
@@ -141,7 +156,8 @@ MatX DgModel::penalty_block(const FaceData& fd, int s, int t) const {
     const bool normal_only = m_options.lambda_penalty == LambdaPenalty::Normal;
     const double w_full = normal_only ? 2.0 * mu : lambda + 2.0 * mu;
     const double w_normal = normal_only ? lambda : 0.0;
-    const Mat3 W = w_full * Mat3::Identity() + w_normal * n * n.transpose();
+    const Mat3 P = fd.axes.asDiagonal();
+    const Mat3 W = P * (w_full * Mat3::Identity() + w_normal * n * n.transpose()) * P;
     const double scale = fd.eta * kSign[s] * kSign[t];
     MatX B(3 * S.rows(), 3 * S.cols());
     for (Index i = 0; i < S.rows(); ++i)
@@ -220,9 +236,11 @@ VecX DgModel::dirichlet_load(const Vec3& g0, const Mat3& G) const {
             g[std::size_t(a)][0] = g0[a] + G.row(a).dot(fi.origin);
             for (int k = 0; k < 3; ++k)
                 g[std::size_t(a)][1 + k] = fi.scale * G(a, k);
+            g[std::size_t(a)] *= fd.axes[a]; // P g: only the fixed components
         }
         const Vec3& n = fi.normal;
-        const Mat3 W = w_full * Mat3::Identity() + w_normal * n * n.transpose();
+        const Mat3 P = fd.axes.asDiagonal();
+        const Mat3 W = P * (w_full * Mat3::Identity() + w_normal * n * n.transpose()) * P;
         const Index ng = num_monomials(p - 1);
         for (int i = 0; i < b.size(); ++i) {
             Vec3 value; // int_F g_c phi_i

@@ -210,6 +210,7 @@ Dg parse_dg(const json& j, const std::string& ptr) {
     Dg d;
     d.flux = r.choice("flux", d.flux, { "ip", "bz" });
     d.penalty = r.number("penalty", d.penalty, 0, 1e6, true);
+    d.dirichlet_penalty = r.number("dirichlet_penalty", d.dirichlet_penalty, 0, 1e8, true);
     d.lambda_penalty = r.choice("lambda_penalty", d.lambda_penalty, { "full", "normal" });
     r.finish();
     return d;

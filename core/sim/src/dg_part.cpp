@@ -15,6 +15,7 @@ dg::DgOptions dg_options(const scene::Scene& s) {
     o.degree = s.basis.degree;
     o.flux = s.dg.flux == "bz" ? dg::Flux::BabuskaZlamal : dg::Flux::InteriorPenalty;
     o.penalty = s.dg.penalty;
+    o.dirichlet_penalty = s.dg.dirichlet_penalty;
     o.lambda_penalty
         = s.dg.lambda_penalty == "normal" ? dg::LambdaPenalty::Normal : dg::LambdaPenalty::Full;
     return o;
@@ -28,8 +29,8 @@ bool face_selected(const scene::Selector& where, const mesh::Mesh& m, const mesh
 }
 } // namespace
 
-std::vector<Index> dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m) {
-    std::vector<Index> faces;
+DgDirichlet dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m) {
+    DgDirichlet out;
     for (std::size_t i = 0; i < s.fixed.size(); ++i) {
         const scene::Fixed& fx = s.fixed[i];
         const std::string where = "/fixed/" + std::to_string(i);
@@ -37,15 +38,14 @@ std::vector<Index> dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m
             throw SceneError(where,
                 "method \"dg\" imposes fixed regions weakly on boundary faces; a single node "
                 "cannot be fixed (select a region)");
-        if (!(fx.components[0] && fx.components[1] && fx.components[2]))
-            throw SceneError(where,
-                "method \"dg\" fixes all three components of a region (weak Dirichlet on its "
-                "boundary faces); partial components are not supported");
+        const std::uint8_t axes = std::uint8_t(
+            (fx.components[0] ? 1 : 0) | (fx.components[1] ? 2 : 0) | (fx.components[2] ? 4 : 0));
         Index count = 0;
         for (Index f = 0; f < m.num_faces(); ++f) {
             const mesh::Face& face = m.faces[std::size_t(f)];
             if (face.boundary() && face_selected(fx.where, m, face)) {
-                faces.push_back(f);
+                out.faces.push_back(f);
+                out.axes.push_back(axes);
                 ++count;
             }
         }
@@ -54,7 +54,7 @@ std::vector<Index> dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m
                 "selects no boundary face of the mesh (method \"dg\" fixes the boundary faces "
                 "whose nodes the region selects)");
     }
-    return faces;
+    return out;
 }
 
 namespace {
@@ -113,8 +113,9 @@ VecX dg_scene_loads(const scene::Scene& s, const mesh::Mesh& m, const dg::DgMode
 
 std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m) {
     auto part = std::make_unique<DgPart>();
-    part->model = std::make_unique<dg::DgModel>(
-        m, elasticity_material(s), dg_options(s), dg_dirichlet_faces(s, m));
+    DgDirichlet fixed = dg_dirichlet_faces(s, m);
+    part->model = std::make_unique<dg::DgModel>(m, elasticity_material(s), dg_options(s),
+        std::move(fixed.faces), std::move(fixed.axes));
     part->stitching = std::make_unique<dg::Stitching>(*part->model);
     part->scene_load = dg_scene_loads(s, m, *part->model, *part->stitching);
     return part;

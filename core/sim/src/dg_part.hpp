@@ -23,9 +23,14 @@ struct DgPart {
 dg::DgOptions dg_options(const scene::Scene& s);
 
 /// Boundary faces of the scene's fixed sets (all nodes selected), where u = 0 is imposed
-/// weakly (Nitsche). Throws SceneError for a set fixing a single node or only some components
-/// (DG DOFs are not nodal) and for a set that selects no boundary face.
-std::vector<Index> dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m);
+/// weakly (Nitsche), with the fixed components of each (bit a = component a). Throws
+/// SceneError for a set fixing a single node (DG DOFs are not nodal) and for a set that
+/// selects no boundary face.
+struct DgDirichlet {
+    std::vector<Index> faces;
+    std::vector<std::uint8_t> axes;
+};
+DgDirichlet dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m);
 
 /// Builds the DG model, its stitching and the scene's loads: area forces and pressures as
 /// exact face tractions, point and uniform forces through the stitching's adjoint.

@@ -36,11 +36,15 @@ enum class Warp {
 /// shared faces.
 class DgModel : public elasticity::Model {
 public:
+    /// dirichlet_axes (empty, or one per dirichlet face): bit a set = component a fixed (7 =
+    /// all, the default); a face listed twice fixes the union. A partial face constrains only
+    /// its components, P u = 0 with P the diagonal projection (the Nitsche terms and the
+    /// penalty act on P [[u]] and P sigma n; the other components are traction free).
     /// dirichlet_faces: boundary faces with u = 0 imposed weakly (Nitsche with the same flux and
     /// penalty as interior faces; BZ: penalty only). Throws InputError for bad options or
     /// material, MeshError naming a cell whose basis cannot be built.
     DgModel(const mesh::Mesh& mesh, const elasticity::Material& material, const DgOptions& options,
-        std::vector<Index> dirichlet_faces = {});
+        std::vector<Index> dirichlet_faces = {}, std::vector<std::uint8_t> dirichlet_axes = {});
 
     const mesh::Mesh& mesh() const { return *m_mesh; }
     const elasticity::Material& material() const override { return m_material; }
@@ -122,6 +126,7 @@ private:
         Index cells[2] = { kNone, kNone };
         FaceIntegrals integrals;
         double eta = 0; ///< alpha p^2 |F| / min |K| [1/m]
+        Vec3 axes = Vec3::Ones(); ///< Dirichlet faces: 1 for a fixed component, else 0
     };
     /// Face block (s, t) of the consistency term A^{st} (3nb_s x 3nb_t) (see the .cpp).
     MatX consistency_block(const FaceData& fd, int s, int t) const;

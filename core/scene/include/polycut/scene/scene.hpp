@@ -83,6 +83,8 @@ struct Dg {
     std::string flux = "ip"; ///< "ip" (symmetric interior penalty) or "bz" (Babuska-Zlamal)
     /// alpha of the face penalty eta_F = alpha p^2 |F| / min(|K-|, |K+|) [dimensionless, > 0]
     double penalty = 10.0;
+    /// alpha of the Nitsche penalty on fixed (Dirichlet) faces [dimensionless, > 0]
+    double dirichlet_penalty = 100.0;
     /// "full": (lambda + 2 mu) eta on the whole jump; "normal": 2 mu eta on the whole jump plus
     /// lambda eta on its normal part (removes volumetric locking near nu = 0.5)
     std::string lambda_penalty = "full";
