@@ -3,7 +3,8 @@
 // fixed (DG: weakly, Nitsche), gravity, E = 10 kPa, nu = 0.45, rho = 1000, beta = 0.01,
 // corotated implicit Euler at dt = 0.01, one thread.
 //
-//   DgStep/<method>/<solver>/<n>: n^3 cells (DG p=1, p=2 and Q1 hexes, P1 Kuhn-6 blocks, mvc
+//   DgStep/<method>/<solver>[@tolerance]/<n>: n^3 cells (DG p=1, p=2 and Q1 hexes, P1 Kuhn-6
+//   blocks, mvc
 //     n^3 blocks split by n^3 random planes)
 //
 // 5 warm-up steps from rest, then 30 timed steps. Counters: med_ms / p99_ms (process CPU time per
@@ -55,14 +56,14 @@ elasticity::Material material() {
     return mat;
 }
 
-IntegratorOptions options(LinearSolverKind solver) {
+IntegratorOptions options(LinearSolverKind solver, double tolerance = 1e-1) {
     IntegratorOptions o;
     o.kind = IntegratorKind::ImplicitEuler;
     o.dt = 0.01;
     o.force_mode = elasticity::ForceMode::Corotated;
     o.gravity = Vec3(0, 0, -9.81);
     o.solver.kind = solver;
-    o.solver.relative_tolerance = 1e-1;
+    o.solver.relative_tolerance = tolerance;
     o.solver.max_iterations = 5000;
     o.solver.refactor_every = 20;
     o.solver.refactor_iterations = 1000;
@@ -116,14 +117,14 @@ const MatX3& reference(Kind kind, int n) {
     return it->second;
 }
 
-void dg_step(benchmark::State& state, Kind kind, LinearSolverKind solver, int n) {
+void dg_step(benchmark::State& state, Kind kind, LinearSolverKind solver, double tol, int n) {
     const double t0 = process_cpu_ms();
     Built b = build(kind, n);
     const double setup = process_cpu_ms() - t0;
     std::vector<double> cpu, asm_ms, slv_ms, its;
     MatX3 final_x;
     for (auto _ : state) {
-        Integrator integ(*b.model, options(solver));
+        Integrator integ(*b.model, options(solver, tol));
         State s = integ.rest_state();
         for (int k = 0; k < kWarmup; ++k)
             integ.step(s);
@@ -165,27 +166,31 @@ int main(int argc, char** argv) {
         Kind kind;
         const char* solver_name;
         LinearSolverKind solver;
+        double tolerance; ///< PCG relative tolerance
         int n;
     };
     const Case cases[] = {
-        { "dg_p1", Kind::DgP1, "cholmod", LinearSolverKind::Cholmod, 10 },
-        { "dg_p1", Kind::DgP1, "jacobi", LinearSolverKind::PcgJacobi, 10 },
-        { "dg_p1", Kind::DgP1, "block_jacobi", LinearSolverKind::PcgBlockJacobi, 10 },
-        { "dg_p1", Kind::DgP1, "lagged_cholesky", LinearSolverKind::PcgLagged, 10 },
-        { "dg_p1", Kind::DgP1, "amg", LinearSolverKind::PcgAmg, 10 },
-        { "dg_p2", Kind::DgP2, "cholmod", LinearSolverKind::Cholmod, 7 },
-        { "dg_p2", Kind::DgP2, "block_jacobi", LinearSolverKind::PcgBlockJacobi, 7 },
-        { "dg_p2", Kind::DgP2, "lagged_cholesky", LinearSolverKind::PcgLagged, 7 },
-        { "dg_p2", Kind::DgP2, "amg", LinearSolverKind::PcgAmg, 7 },
-        { "tet", Kind::Tet, "amg", LinearSolverKind::PcgAmg, 15 },
-        { "hex", Kind::Hex, "amg", LinearSolverKind::PcgAmg, 15 },
-        { "mvc", Kind::Mvc, "amg", LinearSolverKind::PcgAmg, 8 },
+        { "dg_p1", Kind::DgP1, "cholmod", LinearSolverKind::Cholmod, 0, 10 },
+        { "dg_p1", Kind::DgP1, "jacobi", LinearSolverKind::PcgJacobi, 1e-3, 10 },
+        { "dg_p1", Kind::DgP1, "block_jacobi", LinearSolverKind::PcgBlockJacobi, 1e-3, 10 },
+        { "dg_p1", Kind::DgP1, "lagged_cholesky", LinearSolverKind::PcgLagged, 1e-1, 10 },
+        { "dg_p1", Kind::DgP1, "lagged_cholesky", LinearSolverKind::PcgLagged, 1e-3, 10 },
+        { "dg_p1", Kind::DgP1, "amg", LinearSolverKind::PcgAmg, 1e-3, 10 },
+        { "dg_p2", Kind::DgP2, "cholmod", LinearSolverKind::Cholmod, 0, 7 },
+        { "dg_p2", Kind::DgP2, "block_jacobi", LinearSolverKind::PcgBlockJacobi, 1e-3, 7 },
+        { "dg_p2", Kind::DgP2, "lagged_cholesky", LinearSolverKind::PcgLagged, 1e-1, 7 },
+        { "dg_p2", Kind::DgP2, "lagged_cholesky", LinearSolverKind::PcgLagged, 1e-3, 7 },
+        { "tet", Kind::Tet, "amg", LinearSolverKind::PcgAmg, 1e-1, 15 },
+        { "hex", Kind::Hex, "amg", LinearSolverKind::PcgAmg, 1e-1, 15 },
+        { "mvc", Kind::Mvc, "amg", LinearSolverKind::PcgAmg, 1e-1, 8 },
     };
     for (const Case& c : cases)
-        benchmark::RegisterBenchmark((std::string("DgStep/") + c.name + "/" + c.solver_name + "/"
-                                         + std::to_string(c.n))
-                                         .c_str(),
-            dg_step, c.kind, c.solver, c.n)
+        benchmark::RegisterBenchmark(
+            (std::string("DgStep/") + c.name + "/" + c.solver_name
+                + (c.tolerance > 0 ? "@" + std::to_string(c.tolerance).substr(0, 5) : std::string())
+                + "/" + std::to_string(c.n))
+                .c_str(),
+            dg_step, c.kind, c.solver, c.tolerance, c.n)
             ->Iterations(1)
             ->Unit(benchmark::kMillisecond);
     benchmark::Initialize(&argc, argv);

@@ -13,10 +13,9 @@
 #include "polycut/dg/polynomial.hpp"
 #include "polycut/mesh/builders.hpp"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdio>
+#include <gtest/gtest.h>
 #include <random>
 
 using namespace polycut;
@@ -43,8 +42,7 @@ MatX3 project(const DgModel& model, const VecX& q, const Vec3& e) {
     for (Index c = 0; c < model.num_cells(); ++c)
         for (int i = 0; i < model.basis(c).size(); ++i)
             for (int a = 0; a < 3; ++a)
-                x(model.offset(c) + i, a)
-                    += F[dof(model.offset(c) + i, a)] / model.basis(c).volume;
+                x(model.offset(c) + i, a) += F[dof(model.offset(c) + i, a)] / model.basis(c).volume;
     return x;
 }
 
@@ -60,7 +58,8 @@ TEST(DgEmbedding, AffineFieldsAreReproducedByStitchingAndMls) {
         DgOptions o;
         o.degree = 1;
         const DgModel model(m, material(), o);
-        const Mat3 G = (Mat3() << 0.01, 0.02, -0.03, 0.005, -0.01, 0.02, 0.03, 0.0, 0.01).finished();
+        const Mat3 G
+            = (Mat3() << 0.01, 0.02, -0.03, 0.005, -0.01, 0.02, 0.03, 0.0, 0.01).finished();
         const Vec3 g0(0.1, -0.2, 0.05);
         // The affine map X -> X + g0 + G X is in every cell's span: x = X0 + u(X0 rows), since
         // the coefficients of a linear function of x are that function of the rest coefficients.
@@ -69,7 +68,8 @@ TEST(DgEmbedding, AffineFieldsAreReproducedByStitchingAndMls) {
             const MatX3 X0 = model.rest().middleRows(model.offset(c), model.basis(c).size());
             for (int i = 0; i < model.basis(c).size(); ++i) {
                 const Vec3 row = X0.row(i).transpose();
-                x.row(model.offset(c) + i) += (i == 0 ? Vec3(g0 + G * row) : Vec3(G * row)).transpose();
+                x.row(model.offset(c) + i)
+                    += (i == 0 ? Vec3(g0 + G * row) : Vec3(G * row)).transpose();
             }
         }
         const Stitching st(model);
@@ -78,8 +78,8 @@ TEST(DgEmbedding, AffineFieldsAreReproducedByStitchingAndMls) {
         double worst = 0;
         for (Index n = 0; n < m.num_nodes(); ++n)
             if (st.used(n))
-                worst = std::max(worst,
-                    (u.row(n).transpose() - (g0 + G * m.rest[std::size_t(n)])).norm());
+                worst = std::max(
+                    worst, (u.row(n).transpose() - (g0 + G * m.rest[std::size_t(n)])).norm());
         EXPECT_LT(worst, 1e-13) << test::name(kind);
         std::mt19937 rng(5);
         std::uniform_real_distribution<double> U(0.02, 0.98);
@@ -92,8 +92,8 @@ TEST(DgEmbedding, AffineFieldsAreReproducedByStitchingAndMls) {
         mls.displacements(u, up);
         double worst_mls = 0;
         for (std::size_t p = 0; p < points.size(); ++p)
-            worst_mls = std::max(worst_mls,
-                (up.row(Index(p)).transpose() - (g0 + G * points[p])).norm());
+            worst_mls
+                = std::max(worst_mls, (up.row(Index(p)).transpose() - (g0 + G * points[p])).norm());
         EXPECT_LT(worst_mls, 1e-13) << test::name(kind);
     }
 }
@@ -117,8 +117,7 @@ TEST(DgEmbedding, SmoothDeformationStitchedSurfaceHasNoCrackAndConvergesAsHSquar
         std::vector<std::vector<Vec3>> values(m.rest.size());
         for (Index c = 0; c < m.num_cells(); ++c)
             for (Index v : m.cells[std::size_t(c)].nodes)
-                values[std::size_t(v)].push_back(
-                    model.displacement(x, c, m.rest[std::size_t(v)]));
+                values[std::size_t(v)].push_back(model.displacement(x, c, m.rest[std::size_t(v)]));
         double crack = 0;
         for (const auto& vs : values)
             for (const Vec3& a : vs)

@@ -6,10 +6,9 @@
 #include "polycut/scene/scene.hpp"
 #include "polycut/sim/simulation.hpp"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdio>
+#include <gtest/gtest.h>
 #include <string>
 
 using namespace polycut;
@@ -38,8 +37,8 @@ Tip static_tip(const scene::Scene& s, const std::string& probe = "tip", int axis
 
 /// The cantilever of cantilever.json with another geometry and method.
 scene::Scene cantilever(const std::string& geometry, const std::string& method) {
-    return scene::parse_scene(R"({"name": "cantilever_cmp", "geometry": )" + geometry + ", "
-        + method + R"(,
+    return scene::parse_scene(
+        R"({"name": "cantilever_cmp", "geometry": )" + geometry + ", " + method + R"(,
         "material": {"youngs_modulus": 1e6, "poisson_ratio": 0.0, "density": 1000},
         "integrator": {"type": "static", "corotated": false, "tolerance": 1e-8},
         "solver": {"type": "cholmod"},
@@ -65,7 +64,8 @@ TEST(DgScenes, CantileverThreeSizesAgainstTheBeamReferenceAndOtherMethodsAtEqual
     const char* sizes[3] = { "coarse", "medium", "fine" };
     Tip dg[3];
     for (int k = 0; k < 3; ++k) {
-        dg[k] = static_tip(scene::load_scene(asset(std::string("cantilever_dg_") + sizes[k] + ".json")));
+        dg[k] = static_tip(
+            scene::load_scene(asset(std::string("cantilever_dg_") + sizes[k] + ".json")));
         std::printf("[ info ] cantilever_dg_%s: %ld DOFs, tip %.4e m (%+.2f %%)\n", sizes[k],
             long(dg[k].dofs), dg[k].z, 100 * error(dg[k].z));
         // Euler-Bernoulli 8.64e-3; 3D elasticity adds ~1.7 % shear deflection (Timoshenko).
@@ -115,8 +115,8 @@ TEST(DgScenes, GravityColumnIsExactForQuadraticCells) {
         s.geometry.elements = "hex";
         const double w = static_tip(s).z;
         const double reference = 1000 * 9.81 * 0.2 * 0.2 / (2 * 1e5);
-        std::printf("[ info ] gravity column DG p=%d: tip %.6e m, reference %.6e m (%+.3e)\n", p,
-            w, reference, w / reference - 1);
+        std::printf("[ info ] gravity column DG p=%d: tip %.6e m, reference %.6e m (%+.3e)\n", p, w,
+            reference, w / reference - 1);
         EXPECT_NEAR(w / reference - 1, 0.0, p == 2 ? 1e-8 : 0.05);
     }
 }
@@ -192,7 +192,8 @@ TEST(DgScenes, DynamicSceneTakesForcesAndStreamsAClosedSurface) {
     EXPECT_LT(sim.probe_displacement("tip").z(), -1e-4); // pushed down
     EXPECT_GT(sim.energy().elastic, 0.0);
     EXPECT_TRUE(sim.mesh_stats().surface_closed);
-    const sim::CutSummary cut = sim.cut({ { Vec3(0.6, -1, -1), Vec3(0.6, 2, -1), Vec3(0.6, 0, 2) } });
+    const sim::CutSummary cut
+        = sim.cut({ { Vec3(0.6, -1, -1), Vec3(0.6, 2, -1), Vec3(0.6, 0, 2) } });
     EXPECT_EQ(cut.status, sim::CutSummary::Status::Failed); // not implemented for dg yet
     EXPECT_FALSE(sim.step().rolled_back);
 }

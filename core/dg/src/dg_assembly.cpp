@@ -7,7 +7,6 @@
 #include "polycut/dg/dg_model.hpp"
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -90,8 +90,8 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
         double volume = m_bases[std::size_t(face.owner)].volume;
         if (!face.boundary())
             volume = std::min(volume, m_bases[std::size_t(face.neighbour)].volume);
-        fd.eta = (dirichlet ? options.dirichlet_penalty : options.penalty) * p2
-            * fd.integrals.area / volume;
+        fd.eta = (dirichlet ? options.dirichlet_penalty : options.penalty) * p2 * fd.integrals.area
+            / volume;
         if (dirichlet)
             for (int a = 0; a < 3; ++a)
                 fd.axes[a] = (axes_of[std::size_t(f)] >> a) & 1 ? 1.0 : 0.0;

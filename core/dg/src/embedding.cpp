@@ -4,7 +4,6 @@
 #include "polycut/dg/dg_model.hpp"
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>

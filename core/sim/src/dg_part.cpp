@@ -114,8 +114,8 @@ VecX dg_scene_loads(const scene::Scene& s, const mesh::Mesh& m, const dg::DgMode
 std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m) {
     auto part = std::make_unique<DgPart>();
     DgDirichlet fixed = dg_dirichlet_faces(s, m);
-    part->model = std::make_unique<dg::DgModel>(m, elasticity_material(s), dg_options(s),
-        std::move(fixed.faces), std::move(fixed.axes));
+    part->model = std::make_unique<dg::DgModel>(
+        m, elasticity_material(s), dg_options(s), std::move(fixed.faces), std::move(fixed.axes));
     part->stitching = std::make_unique<dg::Stitching>(*part->model);
     part->scene_load = dg_scene_loads(s, m, *part->model, *part->stitching);
     return part;

@@ -190,8 +190,8 @@ StepReport Simulation::step() {
                 // stitching's adjoint; grabs are explicit springs here (their stiffness
                 // couples whole cells, not one row).
                 for (const integrate::NodeSpring& k : s.grab_springs())
-                    s.f_ext.segment<3>(3 * k.node) += k.stiffness
-                        * (k.anchor - s.positions[std::size_t(k.node)]);
+                    s.f_ext.segment<3>(3 * k.node)
+                        += k.stiffness * (k.anchor - s.positions[std::size_t(k.node)]);
                 s.dg->stitching->loads(s.f_ext, s.dg->load);
                 s.dg->load += s.dg->scene_load;
                 s.integrator->set_external_forces(s.dg->load);

@@ -97,10 +97,10 @@ public:
     const VecX& reduced_mass() const override { return m_reduced_mass; }
     void reduce(const VecX& full, VecX& reduced) const override { reduced = full; }
     solve::SparseMatrix make_matrix() const override { return m_pattern; }
-    void assemble(const MatX3& x, elasticity::ForceMode mode, solve::SparseMatrix* K,
-        VecX* f_int) override {
-        assemble(x, mode == elasticity::ForceMode::Corotated ? Warp::Corotated : Warp::Linear, K,
-            f_int);
+    void assemble(
+        const MatX3& x, elasticity::ForceMode mode, solve::SparseMatrix* K, VecX* f_int) override {
+        assemble(
+            x, mode == elasticity::ForceMode::Corotated ? Warp::Corotated : Warp::Linear, K, f_int);
     }
     /// 1/2 u^T K u (Linear) or the sum over the corotated terms of 1/2 u_R^T K_term u_R with
     /// rotations fitted at x (warm-started from the cached ones) [J].
@@ -111,7 +111,7 @@ public:
     std::uint64_t topology_version() const override { return 0; }
     bool nodes_kept_since(std::uint64_t) const override { return true; }
     std::uint64_t cell_version() const override { return 0; }
-    void set_threads(int) override {}
+    void set_threads(int) override { }
     int threads() const override { return 1; }
     bool rows_are_points() const override { return false; }
 

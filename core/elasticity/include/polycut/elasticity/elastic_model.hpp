@@ -102,7 +102,9 @@ public:
     /// edited cells and appended nodes; not after rebuild_topology(), which a renumbering or an
     /// undo calls): then full DOF k means the same node and axis, and a preconditioner of then
     /// can be carried over through the old dof_map() instead of rebuilt.
-    bool nodes_kept_since(std::uint64_t version) const override { return version >= m_renumber_base; }
+    bool nodes_kept_since(std::uint64_t version) const override {
+        return version >= m_renumber_base;
+    }
     /// Incremented whenever cell data (rest shape, Ke) or the fixed DOFs change (update_cells,
     /// rebuild_topology, set_fixed_dofs): a cached stiffness is stale after it moves.
     std::uint64_t cell_version() const override { return m_cell_version; }

@@ -50,8 +50,7 @@ public:
     /// Into K (reduced, from make_matrix(); may be null) the stiffness, into f_int (3#rows,
     /// resized; may be null) the elastic forces [N] at x. Corotated mode updates the cached
     /// cell rotations.
-    virtual void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int)
-        = 0;
+    virtual void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) = 0;
     /// Elastic energy [J] at x, consistent with the forces of `mode`.
     virtual double elastic_energy(const MatX3& x, ForceMode mode) const = 0;
     /// Per cell, the squared stretch at x (1 at rest and under rigid motion; +inf for

@@ -1,6 +1,6 @@
-// Steps an elasticity::Model (ElasticModel, dg::DgModel) in time or to equilibrium (DESIGN.md sec. 4). A step never throws: on a
-// non-finite value, a solver failure or divergence it restores the state it started from and
-// says why in the StepReport (MuJoCo-style warnings, STYLE.md).
+// Steps an elasticity::Model (ElasticModel, dg::DgModel) in time or to equilibrium (DESIGN.md sec.
+// 4). A step never throws: on a non-finite value, a solver failure or divergence it restores the
+// state it started from and says why in the StepReport (MuJoCo-style warnings, STYLE.md).
 #pragma once
 
 #include "polycut/elasticity/model.hpp"
