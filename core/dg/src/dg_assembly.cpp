@@ -256,6 +256,15 @@ void DgModel::cell_stretch_squared(const MatX3& x, std::vector<double>& out) con
     }
 }
 
+std::vector<long> DgModel::dof_blocks() const {
+    std::vector<long> starts;
+    starts.reserve(std::size_t(num_cells()) + 1);
+    for (Index c = 0; c < num_cells(); ++c)
+        starts.push_back(long(3 * offset(c)));
+    starts.push_back(long(3 * m_num_coeffs));
+    return starts;
+}
+
 double DgModel::max_cell_stretch(const MatX3& x) const {
     std::vector<double> s2;
     cell_stretch_squared(x, s2);

@@ -157,6 +157,7 @@ void Integrator::ensure_topology(StepReport& report) {
     m_dof_map_then = m_model->dof_map();
     if (!kept)
         m_solver.reset();
+    m_solver.set_blocks(m_model->dof_blocks());
     if (m_lagged) {
         // New pattern: the running job (if any) is for the old one. The next solve starts the
         // new factor in the background unless there never was a factor (the first solve

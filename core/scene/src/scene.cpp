@@ -236,8 +236,8 @@ Solver parse_solver(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Solver s;
     s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
-    s.preconditioner = r.choice(
-        "preconditioner", s.preconditioner, { "jacobi", "block_jacobi", "lagged_cholesky", "amg" });
+    s.preconditioner = r.choice("preconditioner", s.preconditioner,
+        { "jacobi", "block_jacobi", "cell_block_jacobi", "lagged_cholesky", "amg" });
     s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
     s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
     s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));

@@ -114,6 +114,8 @@ public:
     void set_threads(int) override { }
     int threads() const override { return 1; }
     bool rows_are_points() const override { return false; }
+    /// One block per cell: its 3 nb coefficient DOFs.
+    std::vector<long> dof_blocks() const override;
 
     /// Displacement u at rest point X in cell c from generalised positions x [m].
     Vec3 displacement(const MatX3& x, Index cell, const Vec3& X) const;

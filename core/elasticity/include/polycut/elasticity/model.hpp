@@ -71,6 +71,9 @@ public:
     /// Whether the rows are points in space whose coordinates an AMG solver may use for its
     /// rigid-body modes (true for nodes, false for polynomial coefficients).
     virtual bool rows_are_points() const { return true; }
+    /// Starts of strongly coupled blocks of reduced DOFs (ascending, first 0, last #free), for
+    /// a block-Jacobi preconditioner; empty: none (3x3 node blocks serve).
+    virtual std::vector<long> dof_blocks() const { return {}; }
 };
 
 } // namespace polycut::elasticity

@@ -109,7 +109,8 @@ struct Integrator {
 
 struct Solver {
     std::string type = "pcg"; ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
-    /// pcg: "jacobi", "block_jacobi", "lagged_cholesky", "amg" (hypre BoomerAMG)
+    /// pcg: "jacobi", "block_jacobi", "cell_block_jacobi" (dg: one block per cell),
+    /// "lagged_cholesky", "amg" (hypre BoomerAMG)
     std::string preconditioner = "jacobi";
     double tolerance = 1e-6; ///< relative residual
     int max_iterations = 2000;
