@@ -6,6 +6,7 @@
 #include "polycut/geometry/polyhedron.hpp"
 #include "setup.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 
 namespace polycut::sim {
@@ -118,6 +119,84 @@ std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m)
         m, elasticity_material(s), dg_options(s), std::move(fixed.faces), std::move(fixed.axes));
     part->stitching = std::make_unique<dg::Stitching>(*part->model);
     part->scene_load = dg_scene_loads(s, m, *part->model, *part->stitching);
+    return part;
+}
+
+namespace {
+
+/// Rest points that determine a polynomial of degree <= 2 on a cell: its nodes, the midpoints
+/// of all node pairs and its centroid.
+std::vector<Vec3> fit_points(const mesh::Mesh& m, Index c, const Vec3& centroid) {
+    const auto& nodes = m.cells[std::size_t(c)].nodes;
+    std::vector<Vec3> pts;
+    for (std::size_t a = 0; a < nodes.size(); ++a) {
+        pts.push_back(m.rest[std::size_t(nodes[a])]);
+        for (std::size_t b = a + 1; b < nodes.size(); ++b)
+            pts.push_back(0.5 * (m.rest[std::size_t(nodes[a])] + m.rest[std::size_t(nodes[b])]));
+    }
+    pts.push_back(centroid);
+    return pts;
+}
+
+/// Rows (nb x 3) of the field `rows_old` of old cell `o`, re-expressed on new cell c's basis.
+MatX3 refit(const dg::DgModel& old_model, const MatX3& field_old, Index o,
+    const dg::DgModel& new_model, const mesh::Mesh& m, Index c) {
+    const dg::CellBasis& bo = old_model.basis(o);
+    const dg::CellBasis& bn = new_model.basis(c);
+    const std::vector<Vec3> pts = fit_points(m, c, bn.center);
+    MatX Phi(Index(pts.size()), bn.size());
+    MatX U(Index(pts.size()), 3);
+    const auto rows_o = field_old.middleRows(old_model.offset(o), bo.size());
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+        Phi.row(Index(k)) = bn.values(pts[k]).transpose();
+        U.row(Index(k)) = bo.values(pts[k]).transpose() * rows_o;
+    }
+    return Phi.colPivHouseholderQr().solve(U);
+}
+
+} // namespace
+
+std::unique_ptr<DgPart> dg_after_cut(const DgPart& old, const scene::Scene& s, const mesh::Mesh& m,
+    const cut::CutReport& report, MatX3& x, MatX3& v) {
+    const dg::DgModel& om = *old.model;
+    // Source (old id) of every cell of the edited mesh.
+    const Index n_cells = m.num_cells();
+    std::vector<Index> source(std::size_t(n_cells), kNone);
+    if (report.cell_map.empty()) {
+        for (Index c = 0; c < std::min(n_cells, report.cells_before); ++c)
+            source[std::size_t(c)] = c;
+    } else {
+        for (std::size_t o = 0; o < report.cell_map.size(); ++o)
+            if (const Index c = report.cell_map[o]; c != kNone && c < n_cells)
+                source[std::size_t(c)] = Index(o);
+    }
+    for (const cut::CellOrigin& origin : report.new_cells)
+        if (origin.cell >= 0 && origin.cell < n_cells)
+            source[std::size_t(origin.cell)] = origin.parent;
+    std::vector<std::uint8_t> changed(std::size_t(n_cells), 0);
+    for (Index c : report.changed_cells)
+        if (c >= 0 && c < n_cells)
+            changed[std::size_t(c)] = 1;
+
+    auto part = make_dg_part(s, m);
+    const dg::DgModel& nm = *part->model;
+    const MatX3 u_old = x - om.rest();
+    MatX3 u_new(nm.num_coefficients(), 3), v_new(nm.num_coefficients(), 3);
+    for (Index c = 0; c < n_cells; ++c) {
+        const Index o = source[std::size_t(c)];
+        const int nb = nm.basis(c).size();
+        if (o == kNone || o >= om.num_cells())
+            throw Error("cut", "cell " + std::to_string(c) + " has no cell it came from");
+        if (!changed[std::size_t(c)] && om.basis(o).size() == nb) {
+            u_new.middleRows(nm.offset(c), nb) = u_old.middleRows(om.offset(o), nb);
+            v_new.middleRows(nm.offset(c), nb) = v.middleRows(om.offset(o), nb);
+            continue;
+        }
+        u_new.middleRows(nm.offset(c), nb) = refit(om, u_old, o, nm, m, c);
+        v_new.middleRows(nm.offset(c), nb) = refit(om, v, o, nm, m, c);
+    }
+    x = nm.rest() + u_new;
+    v = v_new;
     return part;
 }
 
