@@ -505,3 +505,19 @@ void ElasticModel::expand(const VecX& reduced, VecX& full) const {
 }
 
 } // namespace polycut::elasticity
+
+namespace polycut::elasticity {
+
+void ElasticModel::rest_rows(MatX3& X0) const {
+    const auto& rest = m_mesh->rest;
+    X0.resize(Index(rest.size()), 3);
+    for (std::size_t i = 0; i < rest.size(); ++i)
+        X0.row(Index(i)) = rest[i].transpose();
+}
+
+void ElasticModel::add_gravity(const Vec3& g, VecX& full) const {
+    for (Index i = 0; i < m_mass.size(); ++i)
+        full.segment<3>(3 * i) += m_mass(i) * g;
+}
+
+} // namespace polycut::elasticity

@@ -11,11 +11,11 @@
 namespace polycut::integrate {
 
 double Integrator::total_energy(const State& s) const {
-    const VecX& m = m_model->nodal_mass();
-    const auto& rest = m_model->mesh().rest;
-    double gravity = 0;
-    for (Index i = 0; i < s.x.rows(); ++i)
-        gravity -= m(i) * m_options.gravity.dot(s.x.row(i).transpose() - rest[std::size_t(i)]);
+    // Potential of gravity relative to rest: -G . (x - X0), G the model's gravity load.
+    VecX load = VecX::Zero(3 * m_model->num_rows());
+    m_model->add_gravity(m_options.gravity, load);
+    const MatX3 u = s.x - m_rest;
+    const double gravity = -load.dot(flat(u));
     // Grab springs are potential forces too (anchors fixed within a step): without their energy
     // every step toward a moved grab target read as a gain and was shortened to nothing.
     // Contact penalties likewise (obstacles and tools hold still within a step).

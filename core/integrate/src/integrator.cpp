@@ -19,7 +19,7 @@ SolverOptions with_threads(SolverOptions s, int threads) {
 }
 } // namespace
 
-Integrator::Integrator(elasticity::ElasticModel& model, const IntegratorOptions& options)
+Integrator::Integrator(elasticity::Model& model, const IntegratorOptions& options)
     : m_model(&model)
     , m_options(options)
     , m_solver(with_threads(options.solver, options.threads)) {
@@ -115,11 +115,8 @@ LinearSolveResult Integrator::lagged_solve(const solve::SparseMatrix& A, const V
 
 State Integrator::rest_state() const {
     State s;
-    const auto& rest = m_model->mesh().rest;
-    s.x.resize(Index(rest.size()), 3);
-    for (std::size_t i = 0; i < rest.size(); ++i)
-        s.x.row(Index(i)) = rest[i].transpose();
-    s.v.setZero(Index(rest.size()), 3);
+    m_model->rest_rows(s.x);
+    s.v.setZero(s.x.rows(), 3);
     return s;
 }
 
@@ -160,6 +157,7 @@ void Integrator::ensure_topology(StepReport& report) {
     m_dof_map_then = m_model->dof_map();
     if (!kept)
         m_solver.reset();
+    m_solver.set_blocks(m_model->dof_blocks());
     if (m_lagged) {
         // New pattern: the running job (if any) is for the old one. The next solve starts the
         // new factor in the background unless there never was a factor (the first solve
@@ -173,22 +171,21 @@ void Integrator::ensure_topology(StepReport& report) {
     m_dv.setZero(m_model->num_free_dofs());
     m_dv_prev.resize(0);
     m_stiffness_age = -1;
+    m_model->rest_rows(m_rest);
     geometry::Aabb box;
-    for (const Vec3& p : m_model->mesh().rest)
-        box.extend(p);
+    for (Index i = 0; i < m_rest.rows(); ++i)
+        box.extend(m_rest.row(i).transpose());
     m_divergence_limit = m_options.divergence_factor * std::max(box.diagonal(), 1e-12);
     if (report.warnings.empty() && m_model->num_free_dofs() == 0)
         report.warnings.emplace_back("no free degrees of freedom");
 }
 
 void Integrator::external_reduced() {
-    const Index n = m_model->num_nodes();
+    const Index n = m_model->num_rows();
     m_full.setZero(3 * n);
     if (m_fext.size() == 3 * n)
         m_full = m_fext;
-    const VecX& mass = m_model->nodal_mass();
-    for (Index i = 0; i < n; ++i)
-        m_full.segment<3>(3 * i) += mass(i) * m_options.gravity;
+    m_model->add_gravity(m_options.gravity, m_full);
     m_model->reduce(m_full, m_fext_r);
 }
 
@@ -235,7 +232,7 @@ void Integrator::gather_free(const MatX3& full, VecX& reduced) const {
 }
 
 void Integrator::pass_coordinates(const MatX3& x) {
-    if (!m_solver.wants_coordinates())
+    if (!m_solver.wants_coordinates() || !m_model->rows_are_points())
         return;
     gather_free(x, m_coords);
     m_solver.set_coordinates(m_coords);
@@ -468,7 +465,7 @@ StepReport Integrator::step(State& s) {
     bool backed_up = false;
     try {
         ensure_topology(report);
-        const Index n = m_model->num_nodes();
+        const Index n = m_model->num_rows();
         if (s.x.rows() != n) {
             report.warnings.emplace_back("state has the wrong number of nodes");
             report.rolled_back = true;
@@ -505,23 +502,22 @@ StepReport Integrator::step(State& s) {
         }
         if (ok) {
             double worst = 0;
-            const auto& rest = m_model->mesh().rest;
             for (Index i = 0; i < n; ++i)
-                worst = std::max(worst, (s.x.row(i).transpose() - rest[std::size_t(i)]).norm());
+                worst = std::max(worst, (s.x.row(i) - m_rest.row(i)).norm());
             if (worst > m_divergence_limit) {
                 ok = false;
                 report.warnings.emplace_back("diverged: displacement beyond the divergence limit");
             }
         }
         if (ok) {
+            m_model->cell_stretch_squared(s.x, m_stretch2_new);
             // Exploded: a cell stretched past the limit that also grew more than stretch_growth
             // times in this step (per cell). Slow, large stretch is the model's answer.
             if (m_stretch_cells != m_model->cell_version()
-                || m_stretch2.size() != std::size_t(m_model->mesh().num_cells())) {
+                || m_stretch2.size() != m_stretch2_new.size()) {
                 m_model->cell_stretch_squared(m_backup.x, m_stretch2);
                 m_stretch_cells = m_model->cell_version();
             }
-            m_model->cell_stretch_squared(s.x, m_stretch2_new);
             const double limit2 = m_options.stretch_limit * m_options.stretch_limit;
             const double growth2 = m_options.stretch_growth * m_options.stretch_growth;
             double worst2 = 0, before2 = 1;
@@ -578,7 +574,7 @@ double Integrator::max_cell_stretch(const MatX3& x) const {
 }
 
 double Integrator::energy(const State& s) const {
-    const VecX& m = m_model->nodal_mass();
+    const VecX& m = m_model->row_mass();
     double kinetic = 0;
     for (Index i = 0; i < s.v.rows(); ++i)
         kinetic += 0.5 * m(i) * s.v.row(i).squaredNorm();

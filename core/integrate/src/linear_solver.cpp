@@ -15,6 +15,9 @@ solve::PcgOptions pcg_options(const SolverOptions& o) {
     case LinearSolverKind::PcgBlockJacobi:
         p.preconditioner = solve::Preconditioner::BlockJacobi3;
         break;
+    case LinearSolverKind::PcgCellBlockJacobi:
+        p.preconditioner = solve::Preconditioner::BlockJacobi;
+        break;
     case LinearSolverKind::PcgLagged:
         p.preconditioner = solve::Preconditioner::LaggedCholesky;
         break;

@@ -201,8 +201,20 @@ Basis parse_basis(const json& j, const std::string& ptr) {
     b.gauss_degree = int(r.integer("gauss_degree", b.gauss_degree, 1, 8));
     b.harmonic_xi = r.number("harmonic_xi", b.harmonic_xi, 0, 10, true);
     b.volumetric = r.choice("volumetric", b.volumetric, { "full", "mean_dilatation" });
+    b.degree = int(r.integer("degree", b.degree, 1, 2));
     r.finish();
     return b;
+}
+
+Dg parse_dg(const json& j, const std::string& ptr) {
+    ObjectReader r(j, ptr);
+    Dg d;
+    d.flux = r.choice("flux", d.flux, { "ip", "bz" });
+    d.penalty = r.number("penalty", d.penalty, 0, 1e6, true);
+    d.dirichlet_penalty = r.number("dirichlet_penalty", d.dirichlet_penalty, 0, 1e8, true);
+    d.lambda_penalty = r.choice("lambda_penalty", d.lambda_penalty, { "full", "normal" });
+    r.finish();
+    return d;
 }
 
 Integrator parse_integrator(const json& j, const std::string& ptr) {
@@ -225,8 +237,8 @@ Solver parse_solver(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Solver s;
     s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
-    s.preconditioner = r.choice(
-        "preconditioner", s.preconditioner, { "jacobi", "block_jacobi", "lagged_cholesky", "amg" });
+    s.preconditioner = r.choice("preconditioner", s.preconditioner,
+        { "jacobi", "block_jacobi", "cell_block_jacobi", "lagged_cholesky", "amg" });
     s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
     s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
     s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));
@@ -366,8 +378,6 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
     s.description = r.string("description", "");
     s.geometry = parse_geometry(r.get("geometry"), r.child("geometry"));
     s.method = r.choice("method", "tet", { "tet", "hex", "mvc", "harmonic", "dg" });
-    if (s.method == "dg")
-        r.fail("method", "\"dg\" (seed 003) is not available yet; use tet, hex, mvc or harmonic");
     if (s.method == "hex"
         && !(s.geometry.kind == Geometry::Kind::Box && s.geometry.elements == "hex"))
         r.fail("method", "\"hex\" needs a box geometry with \"elements\": \"hex\"");
@@ -376,6 +386,11 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
             "\"tet\" needs tetrahedra; set /geometry/elements to \"tet\" or use method \"hex\"");
     if (r.has("basis"))
         s.basis = parse_basis(r.get("basis"), r.child("basis"));
+    if (r.has("dg")) {
+        if (s.method != "dg")
+            r.fail("dg", "applies to method \"dg\" only");
+        s.dg = parse_dg(r.get("dg"), r.child("dg"));
+    }
     if (s.method == "mvc" && s.basis.rule == "monte_carlo")
         throw SceneError("/basis/rule",
             "\"monte_carlo\" integrates harmonic cells only; use "

@@ -8,6 +8,7 @@
 #include "polycut/geometry/affine_fit.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
+#include "setup.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -135,6 +136,17 @@ CutSummary Simulation::end_stroke() {
 }
 
 void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
+    if (dg) {
+        // DG (dg_part.hpp): a model on the cut mesh, every cell's polynomial carried over.
+        dg = dg_after_cut(*dg, scene, mesh, report, state.x, state.v);
+        integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
+        node_fixed_mask.assign(3 * mesh.rest.size(), 0);
+        scene_forces = VecX::Zero(3 * mesh.num_nodes());
+        static_solved = false;
+        sync_positions();
+        refresh_topology();
+        return;
+    }
     const Index n_old = report.nodes_before, n_new = report.nodes_after;
     // Surviving nodes keep their state (renumbered by node_map when the snap cutter compacted
     // nodes); new nodes take displacement and velocity from the material they came from.
@@ -228,8 +240,13 @@ void Simulation::Impl::restore(const Snapshot& snap, bool published) {
     // The cutters' adjacency and remembered sweeps refer to the failed edit: start them afresh.
     if (cutting)
         cutting->forget();
-    model->rebuild_topology();
-    model->set_fixed_dofs(node_fixed_mask);
+    if (dg) {
+        dg = make_dg_part(scene, mesh); // the restored mesh's cells, in their old order
+        integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
+    } else {
+        model->rebuild_topology();
+        model->set_fixed_dofs(node_fixed_mask);
+    }
     static_solved = false;
     sync_positions();
     topology = snap.topology;
@@ -237,6 +254,8 @@ void Simulation::Impl::restore(const Snapshot& snap, bool published) {
 }
 
 int Simulation::Impl::fix_free_pieces() {
+    if (dg)
+        return 0; // not for DG yet: a free piece makes a static DG solve fail, undoing the cut
     // Connected pieces of cells through shared nodes (union-find over cells).
     const Index nc = mesh.num_cells();
     std::vector<Index> root(std::size_t(nc), kNone);

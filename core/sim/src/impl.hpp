@@ -1,6 +1,7 @@
 // Private state of sim::Simulation, shared by its source files.
 #pragma once
 
+#include "dg_part.hpp"
 #include "polycut/cut/pipeline.hpp"
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/integrate/integrator.hpp"
@@ -58,7 +59,9 @@ struct Simulation::Impl {
     mesh::Mesh initial_mesh; ///< for reset()
     mesh::Mesh mesh;
     std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets
-    std::unique_ptr<elasticity::ElasticModel> model;
+    std::unique_ptr<elasticity::ElasticModel> model; ///< null for method dg
+    /// Method dg: the DG model (the integrator's), stitching and loads; null otherwise.
+    std::unique_ptr<DgPart> dg;
     std::unique_ptr<integrate::Integrator> integrator;
     /// World sweep triangles to cuts (core/cut's one pipeline; made on the first cut).
     std::unique_ptr<cut::CutPipeline> cutting;

@@ -62,6 +62,8 @@ Vec3 Simulation::probe_displacement(const std::string& name) const {
     if (!probe)
         throw InputError("probe", "no probe named \"" + name + "\"");
     const Vec3& X = probe->point;
+    if (s.dg)
+        return dg_point_displacement(*s.dg, s.state.x, X); // stitched node or MLS (003 sec. 8)
     const mesh::Mesh& m = s.mesh;
     auto u = [&](Index n) { return Vec3(s.positions[std::size_t(n)] - m.rest[std::size_t(n)]); };
     // 1. A node at the probe: its displacement, exactly.

@@ -92,6 +92,20 @@ void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vect
             if (((X - b.lo).array() < -eps).any() || ((X - b.hi).array() > eps).any())
                 continue;
             const mesh::Cell& cell = m.cells[std::size_t(c)];
+            if (s.dg && cell.shape == mesh::CellShape::Tet) {
+                // DG: the cell's own polynomial field (a tet's barycentric test first).
+                const auto& n = cell.nodes;
+                const Vec3& a = m.rest[std::size_t(n[0])];
+                Mat3 T;
+                T << m.rest[std::size_t(n[1])] - a, m.rest[std::size_t(n[2])] - a,
+                    m.rest[std::size_t(n[3])] - a;
+                const Vec3 l = T.lu().solve(X - a);
+                if (!(1.0 - l.sum() >= -1e-9 && (l.array() >= -1e-9).all()))
+                    continue;
+                u[p] = s.dg->model->displacement(s.state.x, c, X);
+                inside[p] = 1;
+                break;
+            }
             if (cell.shape == mesh::CellShape::Tet) {
                 // P1 interpolation, exact for the tet's field.
                 const auto& n = cell.nodes;
@@ -121,6 +135,11 @@ void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vect
             }
             if (!in)
                 continue;
+            if (s.dg) {
+                u[p] = s.dg->model->displacement(s.state.x, c, X); // the cell's DG field
+                inside[p] = 1;
+                break;
+            }
             const auto rest = geometry::gather(m.rest, cell.nodes);
             const auto world = geometry::gather(s.positions, cell.nodes);
             const geometry::AffineFit fit = geometry::fit_affine(rest, world);
@@ -134,13 +153,22 @@ void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vect
 Energy Simulation::energy() const {
     const Impl& s = *m_impl;
     Energy e;
-    const VecX& m = s.model->nodal_mass();
+    const elasticity::Model& model
+        = s.dg ? static_cast<const elasticity::Model&>(*s.dg->model) : *s.model;
+    const VecX& m = model.row_mass();
     const Vec3 g = s.scene.loads.gravity;
-    for (Index i = 0; i < Index(s.state.x.rows()) && i < Index(m.size()); ++i) {
+    for (Index i = 0; i < Index(s.state.x.rows()) && i < Index(m.size()); ++i)
         e.kinetic += 0.5 * m(i) * s.state.v.row(i).squaredNorm();
-        e.gravity -= m(i) * g.dot(s.state.x.row(i).transpose() - s.mesh.rest[std::size_t(i)]);
+    // -G . (x - X0), G the model's gravity load (for DG it acts on each cell's mean only).
+    VecX load = VecX::Zero(3 * model.num_rows());
+    model.add_gravity(g, load);
+    MatX3 X0;
+    model.rest_rows(X0);
+    if (X0.rows() == s.state.x.rows()) {
+        const MatX3 u = s.state.x - X0;
+        e.gravity = -load.dot(flat(u));
     }
-    e.elastic = s.model->elastic_energy(s.state.x,
+    e.elastic = model.elastic_energy(s.state.x,
         s.scene.integrator.corotated ? elasticity::ForceMode::Corotated
                                      : elasticity::ForceMode::Linear);
     return e;
@@ -154,8 +182,14 @@ ModelStats Simulation::model_stats() const {
         for (Index n : c.nodes)
             used[std::size_t(n)] = 1;
     st.dofs = 3 * Index(std::count(used.begin(), used.end(), std::uint8_t(1)));
-    st.free_dofs = s.model->num_free_dofs();
-    st.nonzeros = Index(s.model->make_matrix().nonZeros());
+    if (s.dg) {
+        st.dofs = 3 * s.dg->model->num_coefficients(); // DG: DOFs are per cell, not per node
+        st.free_dofs = s.dg->model->num_free_dofs();
+        st.nonzeros = Index(s.dg->model->make_matrix().nonZeros());
+    } else {
+        st.free_dofs = s.model->num_free_dofs();
+        st.nonzeros = Index(s.model->make_matrix().nonZeros());
+    }
     for (const mesh::Cell& c : s.mesh.cells) {
         st.tets += c.shape == mesh::CellShape::Tet ? 1 : 0;
         st.hexes += c.shape == mesh::CellShape::Hex ? 1 : 0;

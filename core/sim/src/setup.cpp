@@ -184,12 +184,13 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.static_max_iterations = it.max_iterations;
     o.gravity = s.loads.gravity;
     const auto& sv = s.solver;
-    o.solver.kind = sv.type == "cholmod"         ? integrate::LinearSolverKind::Cholmod
-        : sv.type == "cg_relaxation"             ? integrate::LinearSolverKind::CgRelaxation
-        : sv.preconditioner == "block_jacobi"    ? integrate::LinearSolverKind::PcgBlockJacobi
-        : sv.preconditioner == "lagged_cholesky" ? integrate::LinearSolverKind::PcgLagged
-        : sv.preconditioner == "amg"             ? integrate::LinearSolverKind::PcgAmg
-                                                 : integrate::LinearSolverKind::PcgJacobi;
+    o.solver.kind = sv.type == "cholmod"           ? integrate::LinearSolverKind::Cholmod
+        : sv.type == "cg_relaxation"               ? integrate::LinearSolverKind::CgRelaxation
+        : sv.preconditioner == "block_jacobi"      ? integrate::LinearSolverKind::PcgBlockJacobi
+        : sv.preconditioner == "cell_block_jacobi" ? integrate::LinearSolverKind::PcgCellBlockJacobi
+        : sv.preconditioner == "lagged_cholesky"   ? integrate::LinearSolverKind::PcgLagged
+        : sv.preconditioner == "amg"               ? integrate::LinearSolverKind::PcgAmg
+                                                   : integrate::LinearSolverKind::PcgJacobi;
     o.solver.relative_tolerance = sv.tolerance;
     o.solver.max_iterations = sv.max_iterations;
     o.solver.refactor_every = sv.refactor_every;

@@ -49,12 +49,23 @@ void Simulation::Impl::build() {
         max_cell_diameter = std::max(max_cell_diameter, box.diagonal());
     }
     mesh = initial_mesh;
-    node_fixed_mask = fixed_dofs_from_scene(scene, mesh);
-    scene_forces = scene_loads(scene, mesh);
-    model = std::make_unique<elasticity::ElasticModel>(
-        mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
-    integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
-    check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
+    if (scene.method == "dg") {
+        // DG (seed 003): the integrator steps the coefficients; nodes only carry the stitched
+        // field (docs/decisions/0021). Fixed regions are weak, so no DOF is eliminated.
+        model.reset();
+        node_fixed_mask.assign(3 * mesh.rest.size(), 0);
+        scene_forces = VecX::Zero(3 * mesh.num_nodes());
+        dg = make_dg_part(scene, mesh);
+        integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
+    } else {
+        dg.reset();
+        node_fixed_mask = fixed_dofs_from_scene(scene, mesh);
+        scene_forces = scene_loads(scene, mesh);
+        model = std::make_unique<elasticity::ElasticModel>(
+            mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
+        integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
+        check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
+    }
     cutting.reset();
     cut_cells_left = scene.cutting.max_cells_per_tick;
     state = integrator->rest_state();
@@ -79,6 +90,10 @@ void Simulation::reset() {
 }
 
 void Simulation::Impl::sync_positions() {
+    if (dg) {
+        dg->stitching->positions(state.x, positions); // 003 eq. 17
+        return;
+    }
     positions.resize(std::size_t(state.x.rows()));
     for (Index i = 0; i < Index(state.x.rows()); ++i)
         positions[std::size_t(i)] = state.x.row(i).transpose();
@@ -100,9 +115,8 @@ NodeWeights Simulation::Impl::pick(const Vec3& p, double radius) const {
     double total = 0;
     Index nearest = kNone;
     double best = std::numeric_limits<double>::infinity();
-    const auto& used = model->nodal_mass();
     for (Index i = 0; i < Index(positions.size()); ++i) {
-        if (!(used[i] > 0))
+        if (dg ? !dg->stitching->used(i) : !(model->nodal_mass()[i] > 0))
             continue;
         const double d = (positions[std::size_t(i)] - p).norm();
         if (d < best) {
@@ -182,9 +196,22 @@ StepReport Simulation::step() {
         if (is_static() && s.static_solved) {
             // Equilibrium already holds for unchanged loads.
         } else {
-            s.integrator->set_external_forces(s.f_ext);
-            s.integrator->set_springs(s.grab_springs());
-            s.prepare_contact(dt);
+            if (s.dg) {
+                // DG: nodal forces and grabs act on the stitched nodes, through the
+                // stitching's adjoint; grabs are explicit springs here (their stiffness
+                // couples whole cells, not one row). Contact is not coupled to DG yet.
+                for (const integrate::NodeSpring& k : s.grab_springs())
+                    s.f_ext.segment<3>(3 * k.node)
+                        += k.stiffness * (k.anchor - s.positions[std::size_t(k.node)]);
+                s.dg->stitching->loads(s.f_ext, s.dg->load);
+                s.dg->load += s.dg->scene_load;
+                s.integrator->set_external_forces(s.dg->load);
+                s.integrator->set_springs({});
+            } else {
+                s.integrator->set_external_forces(s.f_ext);
+                s.integrator->set_springs(s.grab_springs());
+                s.prepare_contact(dt);
+            }
             const integrate::StepReport ir = s.integrator->step(s.state);
             r.assembly_ms = ir.assembly_ms;
             r.solve_ms = ir.solve_ms;

@@ -33,6 +33,8 @@ const char* to_string(Preconditioner p) {
         return "incomplete_cholesky";
     case Preconditioner::Amg:
         return "amg";
+    case Preconditioner::BlockJacobi:
+        return "block_jacobi";
     }
     return "unknown";
 }
@@ -59,6 +61,9 @@ struct PcgSolver::Impl {
     // inverse diagonal for the trailing n % 3 rows
     Vector inv_diag;
     std::vector<Eigen::Matrix3d> inv_blocks;
+    // BlockJacobi: block starts (set_blocks) and the inverse blocks, column-major, packed
+    std::vector<long> block_starts;
+    std::vector<double> inv_cell_blocks;
     // LaggedCholesky
     CholmodSolver factor;
     int solves_since_refactor = 0;
@@ -152,6 +157,44 @@ struct PcgSolver::Impl {
         return SolveStatus::Ok;
     }
 
+    SolveStatus setup_cell_blocks(const SparseMatrix& A) {
+        const long n = A.rows();
+        if (block_starts.size() < 2 || block_starts.front() != 0 || block_starts.back() != n)
+            return SolveStatus::NotReady;
+        std::size_t total = 0;
+        for (std::size_t b = 0; b + 1 < block_starts.size(); ++b) {
+            const long size = block_starts[b + 1] - block_starts[b];
+            total += std::size_t(size * size);
+        }
+        inv_cell_blocks.resize(total);
+        const int* inner = A.innerIndexPtr();
+        const double* values = A.valuePtr();
+        std::size_t at = 0;
+        Eigen::MatrixXd block;
+        for (std::size_t b = 0; b + 1 < block_starts.size(); ++b) {
+            const long s = block_starts[b], size = block_starts[b + 1] - s;
+            block.setZero(size, size);
+            for (long c = 0; c < size; ++c) {
+                const int col = static_cast<int>(s + c);
+                const int begin = A.outerIndexPtr()[col];
+                const int end = A.isCompressed() ? A.outerIndexPtr()[col + 1]
+                                                 : begin + A.innerNonZeroPtr()[col];
+                const int* it = std::lower_bound(inner + begin, inner + end, int(s));
+                for (; it != inner + end && *it < s + size; ++it)
+                    block(*it - s, c) = values[it - inner];
+            }
+            if (!block.allFinite())
+                return SolveStatus::NonFinite;
+            const Eigen::LLT<Eigen::MatrixXd> llt(block);
+            if (llt.info() != Eigen::Success)
+                return SolveStatus::NotPositiveDefinite;
+            Eigen::Map<Eigen::MatrixXd>(inv_cell_blocks.data() + at, size, size)
+                = llt.solve(Eigen::MatrixXd::Identity(size, size));
+            at += std::size_t(size * size);
+        }
+        return SolveStatus::Ok;
+    }
+
     /// z = M^-1 r (A: the system matrix, for the fused AMG cycle).
     SolveStatus apply(Preconditioner use, const SparseMatrix& A) {
         switch (use) {
@@ -168,6 +211,17 @@ struct PcgSolver::Impl {
                     = inv_blocks[static_cast<size_t>(b)] * r.segment<3>(3 * b);
             for (long j = 3 * blocks; j < r.size(); ++j)
                 z[j] = inv_diag[j] * r[j];
+            return SolveStatus::Ok;
+        }
+        case Preconditioner::BlockJacobi: {
+            std::size_t at = 0;
+            for (std::size_t b = 0; b + 1 < block_starts.size(); ++b) {
+                const long s = block_starts[b], size = block_starts[b + 1] - s;
+                z.segment(s, size).noalias()
+                    = Eigen::Map<const Eigen::MatrixXd>(inv_cell_blocks.data() + at, size, size)
+                    * r.segment(s, size);
+                at += std::size_t(size * size);
+            }
             return SolveStatus::Ok;
         }
         case Preconditioner::LaggedCholesky:
@@ -353,10 +407,15 @@ struct PcgSolver::Impl {
             if (amg_handover > 0)
                 --amg_handover;
         }
+        if (use == Preconditioner::BlockJacobi
+            && (block_starts.size() < 2 || block_starts.back() != A.rows()))
+            use = Preconditioner::BlockJacobi3; // no blocks of this size: 3x3 ones
         result.used = use;
         switch (use) {
         case Preconditioner::Jacobi:
             return setup_jacobi(A);
+        case Preconditioner::BlockJacobi:
+            return setup_cell_blocks(A);
         case Preconditioner::BlockJacobi3:
             return setup_block_jacobi(A);
         default:
@@ -475,6 +534,10 @@ void PcgSolver::set_coordinates(const Vector& coordinates) {
         m_impl->amg.set_coordinates(coordinates);
         m_impl->amg_coordinates = coordinates;
     }
+}
+
+void PcgSolver::set_blocks(std::vector<long> starts) {
+    m_impl->block_starts = std::move(starts);
 }
 
 bool PcgSolver::remap_preconditioner(const std::vector<long>& old_of) {

@@ -8,6 +8,7 @@
 
 #include "polycut/basis/cell_basis.hpp"
 #include "polycut/elasticity/material.hpp"
+#include "polycut/elasticity/model.hpp"
 #include "polycut/mesh/mesh.hpp"
 #include "polycut/solve/sparse.hpp"
 
@@ -16,19 +17,13 @@
 
 namespace polycut::elasticity {
 
-/// How elastic forces and stiffness are evaluated.
-enum class ForceMode {
-    Linear, ///< small-strain linear elasticity, K constant
-    Corotated, ///< per-cell rotation from the affine fit's polar decomposition
-};
-
 /// One fixed-DOF mask entry per DOF (3#N), 1 = fixed. Helper: fix all three DOFs of the nodes
 /// with node_mask[i] != 0.
 std::vector<std::uint8_t> fix_nodes(const std::vector<std::uint8_t>& node_mask);
 
 /// The elastic model of a mesh. Holds a pointer to the mesh, which must outlive it; after the
 /// mesh is edited (a cut), call update_cells() or rebuild_topology() before the next assembly.
-class ElasticModel {
+class ElasticModel : public Model {
 public:
     /// fixed_dofs: per-DOF mask (3#N, 1 = fixed; may be empty = nothing fixed). Throws
     /// InputError for a bad material or mask size, MeshError for an invalid cell.
@@ -36,18 +31,23 @@ public:
         const basis::BasisOptions& options, std::vector<std::uint8_t> fixed_dofs);
 
     const mesh::Mesh& mesh() const { return *m_mesh; }
-    const Material& material() const { return m_material; }
+    const Material& material() const override { return m_material; }
     Index num_nodes() const { return Index(m_mass.size()); }
     /// Number of free DOFs = size of the reduced system.
-    Index num_free_dofs() const { return m_num_free; }
+    Index num_free_dofs() const override { return m_num_free; }
     /// Full DOF (3 node + axis) -> reduced DOF, or kNone when fixed (3#N).
-    const std::vector<Index>& dof_map() const { return m_dof_map; }
+    const std::vector<Index>& dof_map() const override { return m_dof_map; }
     /// Per-DOF fixed mask (3#N).
     const std::vector<std::uint8_t>& fixed_dofs() const { return m_fixed; }
     /// Lumped nodal masses (#N) [kg].
     const VecX& nodal_mass() const { return m_mass; }
+    // Model: the rows are the nodes.
+    Index num_rows() const override { return num_nodes(); }
+    void rest_rows(MatX3& X0) const override;
+    const VecX& row_mass() const override { return m_mass; }
+    void add_gravity(const Vec3& g, VecX& full) const override;
     /// Lumped mass per reduced DOF (#free) [kg].
-    const VecX& reduced_mass() const { return m_reduced_mass; }
+    const VecX& reduced_mass() const override { return m_reduced_mass; }
     /// Value slot in the CSC arrays of the diagonal entry of each reduced DOF (#free).
     const std::vector<Index>& diagonal_slots() const { return m_diag_slots; }
     /// Cached integration data and stiffness of a cell.
@@ -60,28 +60,28 @@ public:
 
     /// A reduced matrix (#free x #free) with the model's sparsity pattern, all values zero.
     /// Matrices made before a topology change must be remade.
-    solve::SparseMatrix make_matrix() const;
+    solve::SparseMatrix make_matrix() const override;
 
     /// Evaluates at world positions x (#N x 3) [m]: into K (reduced, from make_matrix(); may be
     /// null) the stiffness, and into f_int (3#N, resized; may be null) the elastic nodal forces [N]
     /// (including reactions on fixed DOFs). Corotated mode updates the cached cell rotations.
     /// No allocation once K and f_int have the right size.
-    void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int);
+    void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) override;
 
     /// Elastic energy [J] at x: sum over cells of 1/2 u^T Ke u with the same local displacement u
     /// as the forces (Corotated: rotations of x, warm-started from the cached ones).
-    double elastic_energy(const MatX3& x, ForceMode mode) const;
+    double elastic_energy(const MatX3& x, ForceMode mode) const override;
 
     /// Largest stretch of a cell at positions x (#N x 3) [m]: per cell, the longest distance from
     /// its first node to its other nodes, deformed over the same at rest (1 under rigid motion);
     /// 1 when no cell is stretched. Rest extents are cached with the cell data; uses threads().
-    double max_cell_stretch(const MatX3& x) const;
+    double max_cell_stretch(const MatX3& x) const override;
     /// The same per cell, squared: out[c] = (stretch of cell c)^2 at x (#cells; 1 for cells
     /// without extent, +inf for non-finite positions). Resized; uses threads().
-    void cell_stretch_squared(const MatX3& x, std::vector<double>& out) const;
+    void cell_stretch_squared(const MatX3& x, std::vector<double>& out) const override;
 
     /// Gathers the free entries of a full DOF vector (3#N) into a reduced one (#free).
-    void reduce(const VecX& full, VecX& reduced) const;
+    void reduce(const VecX& full, VecX& reduced) const override;
     /// Scatters a reduced vector into the free entries of a full one (fixed entries untouched).
     void expand(const VecX& reduced, VecX& full) const;
 
@@ -97,15 +97,17 @@ public:
     /// Replaces the fixed-DOF mask (3#N) and rebuilds the DOF numbering and pattern.
     void set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs);
     /// Incremented whenever the pattern (and DOF numbering) changes.
-    std::uint64_t topology_version() const { return m_topology_version; }
+    std::uint64_t topology_version() const override { return m_topology_version; }
     /// Whether the node ids are the same as at topology version `version` (cuts that only
     /// edited cells and appended nodes; not after rebuild_topology(), which a renumbering or an
     /// undo calls): then full DOF k means the same node and axis, and a preconditioner of then
     /// can be carried over through the old dof_map() instead of rebuilt.
-    bool nodes_kept_since(std::uint64_t version) const { return version >= m_renumber_base; }
+    bool nodes_kept_since(std::uint64_t version) const override {
+        return version >= m_renumber_base;
+    }
     /// Incremented whenever cell data (rest shape, Ke) or the fixed DOFs change (update_cells,
     /// rebuild_topology, set_fixed_dofs): a cached stiffness is stale after it moves.
-    std::uint64_t cell_version() const { return m_cell_version; }
+    std::uint64_t cell_version() const override { return m_cell_version; }
 
     /// Threads for assemble() (>= 1; 1 = serial, the default). With T > 1 the nodes are split
     /// into T ranges balanced by cell count; thread t assembles, in cell order, the cells whose
@@ -114,8 +116,8 @@ public:
     /// results are deterministic for a given T, and T = 1 is the plain serial loop. Meshes
     /// numbered for locality (mesh::reorder_for_locality, box grids) leave few cells across
     /// ranges; after a cut, the new nodes' cells go to the serial part.
-    void set_threads(int threads);
-    int threads() const { return m_threads; }
+    void set_threads(int threads) override;
+    int threads() const override { return m_threads; }
     /// Cells of the serial part of a threaded assembly (0 when serial), for reports and tests.
     Index shared_cells() const { return Index(m_shared_cells.size()); }
 

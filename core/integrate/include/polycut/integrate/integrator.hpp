@@ -1,9 +1,9 @@
-// Steps an ElasticModel in time or to equilibrium (DESIGN.md sec. 4). A step never throws: on a
-// non-finite value, a solver failure or divergence it restores the state it started from and
-// says why in the StepReport (MuJoCo-style warnings, STYLE.md).
+// Steps an elasticity::Model (ElasticModel, dg::DgModel) in time or to equilibrium (DESIGN.md sec.
+// 4). A step never throws: on a non-finite value, a solver failure or divergence it restores the
+// state it started from and says why in the StepReport (MuJoCo-style warnings, STYLE.md).
 #pragma once
 
-#include "polycut/elasticity/elastic_model.hpp"
+#include "polycut/elasticity/model.hpp"
 #include "polycut/integrate/linear_solver.hpp"
 #include "polycut/integrate/options.hpp"
 #include "polycut/integrate/penalty.hpp"
@@ -17,7 +17,7 @@ namespace polycut::integrate {
 /// Integrator over a model it does not own (the model must outlive it).
 class Integrator {
 public:
-    Integrator(elasticity::ElasticModel& model, const IntegratorOptions& options);
+    Integrator(elasticity::Model& model, const IntegratorOptions& options);
 
     const IntegratorOptions& options() const { return m_options; }
     /// The rest state: x = X, v = 0, time 0.
@@ -82,7 +82,8 @@ private:
     /// PcgLagged with the off-tick refactorization above.
     LinearSolveResult lagged_solve(const solve::SparseMatrix& A, const VecX& b, VecX& x);
 
-    elasticity::ElasticModel* m_model;
+    elasticity::Model* m_model;
+    MatX3 m_rest; ///< the model's rest rows, refreshed with the topology
     IntegratorOptions m_options;
     LinearSolver m_solver;
     // PcgLagged only: the factor-preconditioned PCG (never refactors by itself), the block

@@ -33,6 +33,8 @@ public:
     /// PcgAmg with rigid-body modes: node coordinates of the reduced DOFs (see
     /// solve::PcgSolver::set_coordinates) [m].
     void set_coordinates(const solve::Vector& coordinates) { m_pcg.set_coordinates(coordinates); }
+    /// PcgCellBlockJacobi: the starts of the reduced system's diagonal blocks.
+    void set_blocks(std::vector<long> starts) { m_pcg.set_blocks(std::move(starts)); }
     /// The AMG hierarchy wants node coordinates (PcgAmg with AmgOptions::rigid_body_modes).
     bool wants_coordinates() const {
         return m_options.kind == LinearSolverKind::PcgAmg && m_options.amg.rigid_body_modes;

@@ -30,6 +30,9 @@ enum class LinearSolverKind {
     Cholmod, ///< CHOLMOD LL^T, refactored at every solve
     PcgJacobi, ///< PCG, Jacobi preconditioner, warm-started
     PcgBlockJacobi, ///< PCG, 3x3 block-Jacobi preconditioner, warm-started
+    /// PCG, block Jacobi over the model's DOF blocks (elasticity::Model::dof_blocks(): the
+    /// coefficients of each DG cell); 3x3 blocks for a model without blocks
+    PcgCellBlockJacobi,
     PcgLagged, ///< PCG preconditioned by a lagged CHOLMOD factor
     PcgIncompleteCholesky, ///< PCG preconditioned by a lagged incomplete Cholesky factor
     /// PCG preconditioned by one V-cycle of a lagged algebraic multigrid hierarchy (hypre

@@ -74,6 +74,20 @@ struct Basis {
     /// Volumetric strain of hexes and polyhedra: "full" (the cell's quadrature) or
     /// "mean_dilatation" (B-bar: one pressure per cell, no volumetric locking near nu = 0.5)
     std::string volumetric = "full";
+    /// dg: polynomial degree p of every cell's displacement field, 1 or 2
+    int degree = 1;
+};
+
+/// Discontinuous Galerkin options (method dg, seed 003; docs/decisions/0020, 0021).
+struct Dg {
+    std::string flux = "ip"; ///< "ip" (symmetric interior penalty) or "bz" (Babuska-Zlamal)
+    /// alpha of the face penalty eta_F = alpha p^2 |F| / min(|K-|, |K+|) [dimensionless, > 0]
+    double penalty = 10.0;
+    /// alpha of the Nitsche penalty on fixed (Dirichlet) faces [dimensionless, > 0]
+    double dirichlet_penalty = 100.0;
+    /// "full": (lambda + 2 mu) eta on the whole jump; "normal": 2 mu eta on the whole jump plus
+    /// lambda eta on its normal part (removes volumetric locking near nu = 0.5)
+    std::string lambda_penalty = "full";
 };
 
 struct Integrator {
@@ -95,7 +109,8 @@ struct Integrator {
 
 struct Solver {
     std::string type = "pcg"; ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
-    /// pcg: "jacobi", "block_jacobi", "lagged_cholesky", "amg" (hypre BoomerAMG)
+    /// pcg: "jacobi", "block_jacobi", "cell_block_jacobi" (dg: one block per cell),
+    /// "lagged_cholesky", "amg" (hypre BoomerAMG)
     std::string preconditioner = "jacobi";
     double tolerance = 1e-6; ///< relative residual
     int max_iterations = 2000;
@@ -261,8 +276,9 @@ struct Scene {
     std::string description;
     std::string directory; ///< directory of the scene file (for relative paths); "" inline
     Geometry geometry;
-    std::string method = "tet"; ///< "tet", "hex", "mvc", "harmonic" ("dg" not yet available)
+    std::string method = "tet"; ///< "tet", "hex", "mvc", "harmonic", "dg"
     Basis basis;
+    Dg dg; ///< method dg only
     Material material;
     Integrator integrator;
     Solver solver;

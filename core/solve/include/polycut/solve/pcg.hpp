@@ -16,10 +16,20 @@ namespace polycut::solve {
 /// PCG preconditioners. LaggedCholesky, IncompleteCholesky and Amg keep their factor / hierarchy
 /// between solves and refresh it on the schedule of PcgOptions (refactor_every /
 /// refactor_iterations). Amg: one V-cycle of hypre BoomerAMG (systems AMG, see AmgOptions).
-enum class Preconditioner { None, Jacobi, BlockJacobi3, LaggedCholesky, IncompleteCholesky, Amg };
+/// BlockJacobi: the inverses of the diagonal blocks set by set_blocks() (per DG cell, say); 3x3
+/// blocks (BlockJacobi3) while none are set.
+enum class Preconditioner {
+    None,
+    Jacobi,
+    BlockJacobi3,
+    LaggedCholesky,
+    IncompleteCholesky,
+    Amg,
+    BlockJacobi,
+};
 
 /// Name of a preconditioner ("none", "jacobi", "block_jacobi3", "lagged_cholesky",
-/// "incomplete_cholesky", "amg").
+/// "incomplete_cholesky", "amg", "block_jacobi").
 const char* to_string(Preconditioner p);
 
 struct PcgOptions {
@@ -97,6 +107,9 @@ public:
     /// coordinate of its node along the DOF's component, interleaved like the DOFs) [m], used by
     /// the next hierarchy set-up. Copied; ignored by the other preconditioners.
     void set_coordinates(const Vector& coordinates);
+    /// BlockJacobi: where the diagonal blocks start (ascending, first 0, last n = the size; e.g.
+    /// the DOFs of each DG cell). Copied; used from the next solve on.
+    void set_blocks(std::vector<long> starts);
     /// Number of lagged factorizations (or AMG set-ups) done so far (foreground and background).
     int refactorizations() const;
     /// Amg: levels of the current hierarchy (0 before the first set-up).
