@@ -31,7 +31,7 @@ void Integrator::semi_implicit_penalty_velocity(const State& s, double h, const 
     // on the left (cross-node coupling of embedded points dropped: semi-implicit Euler solves
     // per node).
     const std::vector<Index>& dof_map = m_model->dof_map();
-    const Index n = m_model->num_nodes();
+    const Index n = m_model->num_rows();
     m_tmp = h * (m_rhs + m_spring_f - h * m_spring_diag.cwiseProduct(m_v_r));
     add_penalty_forces(m_penalty_set, &s.v, h, dof_map, h, m_tmp);
     penalty_node_blocks(m_penalty_set, n, h * h, h, m_node_blocks);
