@@ -33,11 +33,11 @@ TEST(SimulationUndo, RestoringTheSnapshotUndoesACut) {
         b.step();
     }
     auto& ia = SimulationTestPeer::impl(a);
-    const auto snap = ia.snapshot();
+    const auto snap = ia.take_snapshot();
     const Vec3 p(0.01, -0.2, -0.1), q(0.01, 0.2, -0.1), r(0.01, 0.2, 0.3), t(0.01, -0.2, 0.3);
     ASSERT_TRUE(a.cut({ { p, q, r }, { p, r, t } }).topology_changed);
     ASSERT_EQ(a.mesh_stats().components, 2);
-    ia.restore(snap);
+    ia.restore(*snap);
     // Same mesh and state as the simulation that never cut, bit for bit; the same future up to the
     // solver tolerance (the rebuilt model restarts its rotation warm starts).
     EXPECT_EQ(a.mesh_stats().cells, b.mesh_stats().cells);

@@ -37,8 +37,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         s.cutting = std::make_unique<cut::CutPipeline>(s.mesh, s.initial_mesh, opt);
     }
     std::unique_ptr<Impl::Snapshot> before;
-    cut::CutResult result = s.cutting->cut(world, s.positions, budget > 0 ? s.cut_cells_left : 0,
-        [&] { before = std::make_unique<Impl::Snapshot>(s.snapshot()); });
+    cut::CutResult result = s.cutting->cut(
+        world, s.positions, budget > 0 ? s.cut_cells_left : 0, [&] { before = s.take_snapshot(); });
     summary.triangles_skipped = int(result.skipped);
     summary.triangles_deferred = int(result.deferred);
     if (result.status == cut::CutStatus::Rejected) {
@@ -57,6 +57,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     }
     summary.cells_after = int(s.mesh.num_cells());
     summary.cut_ms = watch.ms();
+    if (before)
+        s.spare = std::move(before);
     return summary;
 }
 
@@ -91,7 +93,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
     // Until the next step shows the cut model is sound, the state before the first cut of this
     // tick stays at hand (Simulation::step undoes the cut when that step fails).
     if (summary.topology_changed && !cut_undo)
-        cut_undo = std::make_unique<Snapshot>(std::move(before));
+        cut_undo = std::make_unique<Snapshot>(std::move(before)); // before's buffers move along
 }
 
 void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
@@ -125,10 +127,11 @@ CutSummary Simulation::end_stroke() {
     // Face snapping holds faces back while cutting them would pinch an edge; when the blade is
     // lifted they are cut (their pinched edges split), so the stroke ends complete.
     std::unique_ptr<Impl::Snapshot> before;
-    cut::CutResult result
-        = s.cutting->end_stroke([&] { before = std::make_unique<Impl::Snapshot>(s.snapshot()); });
+    cut::CutResult result = s.cutting->end_stroke([&] { before = s.take_snapshot(); });
     if (before)
         s.settle_cut(result, summary, *before);
+    if (before)
+        s.spare = std::move(before);
     if (summary.status == CutSummary::Status::Failed)
         summary.reason = "finishing the stroke " + summary.reason;
     summary.cells_after = int(s.mesh.num_cells());
@@ -222,10 +225,17 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     refresh_topology();
 }
 
-Simulation::Impl::Snapshot Simulation::Impl::snapshot() const {
-    Snapshot snap { {}, state, node_fixed_mask, scene_forces, forces, grabs, swept_area, topology,
-        topology_version };
-    mesh::pack(mesh, snap.mesh);
+std::unique_ptr<Simulation::Impl::Snapshot> Simulation::Impl::take_snapshot() {
+    std::unique_ptr<Snapshot> snap = spare ? std::move(spare) : std::make_unique<Snapshot>();
+    snap->state = state;
+    snap->node_fixed_mask = node_fixed_mask;
+    snap->scene_forces = scene_forces;
+    snap->forces = forces;
+    snap->grabs = grabs;
+    snap->swept_area = swept_area;
+    snap->topology = topology;
+    snap->topology_version = topology_version;
+    mesh::pack(mesh, snap->mesh);
     return snap;
 }
 

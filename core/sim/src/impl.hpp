@@ -17,7 +17,7 @@
 namespace polycut::contact {
 class ContactField; // contact.cpp and simulation.cpp see it whole
 struct Samples;
-}
+} // namespace polycut::contact
 namespace polycut::embed {
 struct Embedding; // embedded.cpp
 }
@@ -80,7 +80,12 @@ struct Simulation::Impl {
         surface::Topology topology;
         std::uint64_t topology_version = 0;
     };
-    Snapshot snapshot() const;
+    /// The mesh and state a cut may change, packed into the buffers of a snapshot no longer
+    /// needed (`spare`): the flat
+    /// arrays keep their capacity, so a cut's undo copy writes into memory already mapped
+    /// instead of fresh pages (issue 12 item 5).
+    std::unique_ptr<Snapshot> take_snapshot();
+    std::unique_ptr<Snapshot> spare;
     /// The state before the first cut since the last step: kept until that step has shown the
     /// cut mesh is mechanically sound; a step that fails right after a cut undoes the cut too.
     std::unique_ptr<Snapshot> cut_undo;

@@ -1,9 +1,9 @@
 // sim::Simulation: construction from a scene, stepping, forces and grabs.
 #include "impl.hpp"
-#include "polycut/contact/contact_field.hpp"
-#include "polycut/embed/embedding.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
+#include "polycut/contact/contact_field.hpp"
+#include "polycut/embed/embedding.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 #include "polycut/sim/build_mesh.hpp"
@@ -244,7 +244,8 @@ StepReport Simulation::step() {
             r.warnings.push_back(std::string("cut could not be undone: ") + e.what());
         }
     }
-    s.cut_undo.reset();
+    if (s.cut_undo)
+        s.spare = std::move(s.cut_undo); // its buffers serve the next cut's undo copy
     s.cut_cells_left = s.scene.cutting.max_cells_per_tick;
     ++s.tick;
     s.time += dt;
