@@ -230,3 +230,23 @@ TEST(DgScenes, CutBarLowerHalfFallsFreelyUpperHalfHangs) {
     EXPECT_NEAR(-bottom, fall, 0.05 * fall); // it falls (its sag and pre-cut velocity aside)
     EXPECT_LT(std::abs(top), 2e-3); // the upper half still hangs
 }
+
+TEST(DgScenes, AdaptiveBarRefinesAtTheClampAndSolvesAgain) {
+    // adaptive_bar_dg.json: the first step solves the coarse cantilever and splits the 36 hexes
+    // at the clamp over 400 Pa (level limit 1); the second solves on the 366-cell mesh.
+    sim::Simulation sim(scene::load_scene(asset("adaptive_bar_dg.json")));
+    const sim::StepReport first = sim.step();
+    ASSERT_FALSE(first.rolled_back);
+    EXPECT_TRUE(first.topology_changed);
+    EXPECT_EQ(sim.cell_count(), 72 + 7 * 42);
+    const double coarse = sim.probe_displacement("tip").z(); // carried over, not re-solved
+    const sim::StepReport second = sim.step();
+    ASSERT_FALSE(second.rolled_back);
+    EXPECT_FALSE(second.topology_changed); // level limit reached
+    const double fine = sim.probe_displacement("tip").z();
+    EXPECT_TRUE(sim.mesh_stats().surface_closed);
+    std::printf("[ info ] adaptive bar: tip %.5e m on 72 cells, %.5e m on %ld cells\n", coarse,
+        fine, long(sim.cell_count()));
+    EXPECT_NEAR(fine / coarse, 1.0, 0.005);
+    EXPECT_NEAR(-fine / kCantilever - 1, 0.017, 0.01);
+}

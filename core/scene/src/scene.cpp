@@ -213,6 +213,8 @@ Dg parse_dg(const json& j, const std::string& ptr) {
     d.penalty = r.number("penalty", d.penalty, 0, 1e6, true);
     d.dirichlet_penalty = r.number("dirichlet_penalty", d.dirichlet_penalty, 0, 1e8, true);
     d.lambda_penalty = r.choice("lambda_penalty", d.lambda_penalty, { "full", "normal" });
+    d.refine_stress = r.number("refine_stress", d.refine_stress, 0, 1e12, false, "Pa");
+    d.refine_levels = int(r.integer("refine_levels", d.refine_levels, 1, 6));
     r.finish();
     return d;
 }

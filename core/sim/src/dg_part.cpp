@@ -2,6 +2,7 @@
 #include "dg_part.hpp"
 
 #include "polycut/common/error.hpp"
+#include "polycut/dg/refine.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 #include "setup.hpp"
@@ -122,40 +123,6 @@ std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m)
     return part;
 }
 
-namespace {
-
-/// Rest points that determine a polynomial of degree <= 2 on a cell: its nodes, the midpoints
-/// of all node pairs and its centroid.
-std::vector<Vec3> fit_points(const mesh::Mesh& m, Index c, const Vec3& centroid) {
-    const auto& nodes = m.cells[std::size_t(c)].nodes;
-    std::vector<Vec3> pts;
-    for (std::size_t a = 0; a < nodes.size(); ++a) {
-        pts.push_back(m.rest[std::size_t(nodes[a])]);
-        for (std::size_t b = a + 1; b < nodes.size(); ++b)
-            pts.push_back(0.5 * (m.rest[std::size_t(nodes[a])] + m.rest[std::size_t(nodes[b])]));
-    }
-    pts.push_back(centroid);
-    return pts;
-}
-
-/// Rows (nb x 3) of the field `rows_old` of old cell `o`, re-expressed on new cell c's basis.
-MatX3 refit(const dg::DgModel& old_model, const MatX3& field_old, Index o,
-    const dg::DgModel& new_model, const mesh::Mesh& m, Index c) {
-    const dg::CellBasis& bo = old_model.basis(o);
-    const dg::CellBasis& bn = new_model.basis(c);
-    const std::vector<Vec3> pts = fit_points(m, c, bn.center);
-    MatX Phi(Index(pts.size()), bn.size());
-    MatX U(Index(pts.size()), 3);
-    const auto rows_o = field_old.middleRows(old_model.offset(o), bo.size());
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-        Phi.row(Index(k)) = bn.values(pts[k]).transpose();
-        U.row(Index(k)) = bo.values(pts[k]).transpose() * rows_o;
-    }
-    return Phi.colPivHouseholderQr().solve(U);
-}
-
-} // namespace
-
 std::unique_ptr<DgPart> dg_after_cut(const DgPart& old, const scene::Scene& s, const mesh::Mesh& m,
     const cut::CutReport& report, MatX3& x, MatX3& v) {
     const dg::DgModel& om = *old.model;
@@ -173,30 +140,49 @@ std::unique_ptr<DgPart> dg_after_cut(const DgPart& old, const scene::Scene& s, c
     for (const cut::CellOrigin& origin : report.new_cells)
         if (origin.cell >= 0 && origin.cell < n_cells)
             source[std::size_t(origin.cell)] = origin.parent;
-    std::vector<std::uint8_t> changed(std::size_t(n_cells), 0);
+    std::vector<std::uint8_t> unchanged(std::size_t(n_cells), 1);
     for (Index c : report.changed_cells)
         if (c >= 0 && c < n_cells)
-            changed[std::size_t(c)] = 1;
-
+            unchanged[std::size_t(c)] = 0;
+    for (Index c = 0; c < n_cells; ++c)
+        if (source[std::size_t(c)] == kNone)
+            throw Error("cut", "cell " + std::to_string(c) + " has no cell it came from");
     auto part = make_dg_part(s, m);
     const dg::DgModel& nm = *part->model;
-    const MatX3 u_old = x - om.rest();
-    MatX3 u_new(nm.num_coefficients(), 3), v_new(nm.num_coefficients(), 3);
-    for (Index c = 0; c < n_cells; ++c) {
-        const Index o = source[std::size_t(c)];
-        const int nb = nm.basis(c).size();
-        if (o == kNone || o >= om.num_cells())
-            throw Error("cut", "cell " + std::to_string(c) + " has no cell it came from");
-        if (!changed[std::size_t(c)] && om.basis(o).size() == nb) {
-            u_new.middleRows(nm.offset(c), nb) = u_old.middleRows(om.offset(o), nb);
-            v_new.middleRows(nm.offset(c), nb) = v.middleRows(om.offset(o), nb);
-            continue;
-        }
-        u_new.middleRows(nm.offset(c), nb) = refit(om, u_old, o, nm, m, c);
-        v_new.middleRows(nm.offset(c), nb) = refit(om, v, o, nm, m, c);
+    const MatX3 u = dg::transfer_field(om, x - om.rest(), nm, source, unchanged);
+    v = dg::transfer_field(om, v, nm, source, unchanged);
+    x = nm.rest() + u;
+    return part;
+}
+
+std::unique_ptr<DgPart> dg_refine(
+    const DgPart& old, const scene::Scene& s, mesh::Mesh& m, MatX3& x, MatX3& v) {
+    const dg::DgModel& om = *old.model;
+    const std::vector<double> stress = dg::principal_stress(om, x);
+    std::vector<Index> hot;
+    for (Index c = 0; c < om.num_cells(); ++c) {
+        const int level = std::size_t(c) < old.level.size() ? old.level[std::size_t(c)] : 0;
+        if (stress[std::size_t(c)] > s.dg.refine_stress && level < s.dg.refine_levels
+            && m.cells[std::size_t(c)].shape == mesh::CellShape::Hex)
+            hot.push_back(c);
     }
-    x = nm.rest() + u_new;
-    v = v_new;
+    if (hot.empty())
+        return nullptr;
+    dg::Refinement r = dg::refine_hexes(m, hot);
+    if (r.split == 0)
+        return nullptr;
+    m = std::move(r.mesh); // `om` keeps its bases: the transfer needs nothing else of it
+    auto part = make_dg_part(s, m);
+    const dg::DgModel& nm = *part->model;
+    const MatX3 u = dg::transfer_field(om, x - om.rest(), nm, r.source);
+    v = dg::transfer_field(om, v, nm, r.source);
+    x = nm.rest() + u;
+    part->level.resize(std::size_t(nm.num_cells()));
+    for (Index c = 0; c < nm.num_cells(); ++c) {
+        const Index o = r.source[std::size_t(c)];
+        const int before = std::size_t(o) < old.level.size() ? old.level[std::size_t(o)] : 0;
+        part->level[std::size_t(c)] = before + (r.child[std::size_t(c)] ? 1 : 0);
+    }
     return part;
 }
 

@@ -15,6 +15,7 @@ namespace polycut::sim {
 
 struct DgPart {
     std::unique_ptr<dg::DgModel> model;
+    std::vector<int> level; ///< per cell: times its lineage was split (adaptivity)
     std::unique_ptr<dg::Stitching> stitching;
     VecX scene_load; ///< (3#coeffs) the scene's constant loads [N]
     VecX load; ///< (3#coeffs) work vector [N]
@@ -46,6 +47,13 @@ std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m)
 /// couples them, so the two sides separate (003 sec. 10).
 std::unique_ptr<DgPart> dg_after_cut(const DgPart& old, const scene::Scene& s, const mesh::Mesh& m,
     const cut::CutReport& report, MatX3& x, MatX3& v);
+
+/// Stress-based refinement after a step (scene dg.refine_stress, 003 sec. 10): splits the hex
+/// cells over the threshold whose level is below dg.refine_levels, 1-to-8, into `m`, and
+/// returns the new part with the state carried over exactly (children start from the parent's
+/// polynomial); null when no cell qualifies (nothing changed).
+std::unique_ptr<DgPart> dg_refine(
+    const DgPart& old, const scene::Scene& s, mesh::Mesh& m, MatX3& x, MatX3& v);
 
 /// Displacement [m] at a rest point: the stitched value at a node (003 eq. 17), the MLS
 /// embedding elsewhere (003 eq. 18-19); zero when the point is not near the tissue.

@@ -224,6 +224,19 @@ StepReport Simulation::step() {
             if (ir.penalty_entries_dropped > 0)
                 r.warnings.push_back(std::to_string(ir.penalty_entries_dropped)
                     + " contact matrix entries outside the sparsity pattern were dropped");
+            if (s.dg && s.scene.dg.refine_stress > 0 && !ir.rolled_back)
+                if (auto refined = dg_refine(*s.dg, s.scene, s.mesh, s.state.x, s.state.v)) {
+                    // 003 sec. 10: stressed cells split 1-to-8, children from the parent
+                    s.dg = std::move(refined);
+                    s.integrator = std::make_unique<integrate::Integrator>(
+                        *s.dg->model, integrator_options(s.scene));
+                    s.node_fixed_mask.assign(3 * s.mesh.rest.size(), 0);
+                    s.scene_forces = VecX::Zero(3 * s.mesh.num_nodes());
+                    s.cutting.reset(); // its adjacency is of the old mesh
+                    s.static_solved = false; // a static scene solves again on the finer mesh
+                    s.refresh_topology();
+                    r.topology_changed = true;
+                }
         }
         s.sync_positions();
         s.measure_contact();

@@ -88,6 +88,11 @@ struct Dg {
     /// "full": (lambda + 2 mu) eta on the whole jump; "normal": 2 mu eta on the whole jump plus
     /// lambda eta on its normal part (removes volumetric locking near nu = 0.5)
     std::string lambda_penalty = "full";
+    /// Stress-based refinement (003 sec. 10): after a step, hex cells whose largest absolute
+    /// principal stress exceeds this are split 1-to-8 [Pa]; 0 = off
+    double refine_stress = 0;
+    /// times a cell's lineage may be split (>= 1)
+    int refine_levels = 1;
 };
 
 struct Integrator {
