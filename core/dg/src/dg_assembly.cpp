@@ -58,7 +58,7 @@ void DgModel::build_operator() {
     // Pattern: every pair of cells that share a term-carrying face, and every cell with itself.
     std::vector<std::vector<Index>> neighbours(static_cast<std::size_t>(n_cells));
     for (const FaceData& fd : m_faces)
-        if (fd.integrals.sides == 2) {
+        if (fd.sides == 2) {
             neighbours[std::size_t(fd.cells[0])].push_back(fd.cells[1]);
             neighbours[std::size_t(fd.cells[1])].push_back(fd.cells[0]);
         }
@@ -113,7 +113,7 @@ void DgModel::build_operator() {
     m_penalty = m_pattern;
     double* pen = m_penalty.valuePtr();
     for (const FaceData& fd : m_faces) {
-        const int sides = fd.integrals.sides;
+        const int sides = fd.sides;
         for (int s = 0; s < sides; ++s)
             for (int t = 0; t < sides; ++t) {
                 const MatX B = penalty_block(fd, s, t); // rows of side s, columns of side t

@@ -85,13 +85,15 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
         fd.face = f;
         fd.cells[0] = face.owner;
         fd.cells[1] = face.neighbour;
-        fd.integrals = face_integrals(mesh.rest, face.nodes, m_bases[std::size_t(face.owner)],
+        fd.parts = face_integral_parts(mesh.rest, face.nodes, m_bases[std::size_t(face.owner)],
             face.boundary() ? nullptr : &m_bases[std::size_t(face.neighbour)]);
+        fd.sides = fd.parts.front().sides;
+        for (const FaceIntegrals& part : fd.parts)
+            fd.area += part.area;
         double volume = m_bases[std::size_t(face.owner)].volume;
         if (!face.boundary())
             volume = std::min(volume, m_bases[std::size_t(face.neighbour)].volume);
-        fd.eta = (dirichlet ? options.dirichlet_penalty : options.penalty) * p2 * fd.integrals.area
-            / volume;
+        fd.eta = (dirichlet ? options.dirichlet_penalty : options.penalty) * p2 * fd.area / volume;
         if (dirichlet)
             for (int a = 0; a < 3; ++a)
                 fd.axes[a] = (axes_of[std::size_t(f)] >> a) & 1 ? 1.0 : 0.0;
@@ -130,26 +132,41 @@ MatX DgModel::volume_stiffness(const CellBasis& b) const {
 }
 
 MatX DgModel::consistency_block(const FaceData& fd, int s, int t) const {
-    const FaceIntegrals& fi = fd.integrals;
-    const auto& P = fi.P[std::size_t(s)][std::size_t(t)];
-    const Vec3& n = fi.normal;
-    const double w = kSign[s] * (fi.sides == 2 ? 0.5 : 1.0);
+    const double w = kSign[s] * (fd.sides == 2 ? 0.5 : 1.0);
     const double lambda = m_material.lambda(), mu = m_material.mu();
-    const MatX nP = n[0] * P[0] + n[1] * P[1] + n[2] * P[2];
-    const Index ns = P[0].rows(), nt = P[0].cols();
-    MatX A(3 * ns, 3 * nt);
-    for (Index i = 0; i < ns; ++i)
-        for (Index j = 0; j < nt; ++j)
-            for (int a = 0; a < 3; ++a)
-                for (int c = 0; c < 3; ++c)
-                    A(3 * i + a, 3 * j + c) = w * fd.axes[a]
-                        * (lambda * n[a] * P[std::size_t(c)](i, j)
-                            + mu * n[c] * P[std::size_t(a)](i, j) + (a == c ? mu * nP(i, j) : 0.0));
+    MatX A;
+    for (const FaceIntegrals& fi : fd.parts) { // a warped face: its triangles, each with its n
+        const auto& P = fi.P[std::size_t(s)][std::size_t(t)];
+        const Vec3& n = fi.normal;
+        const MatX nP = n[0] * P[0] + n[1] * P[1] + n[2] * P[2];
+        const Index ns = P[0].rows(), nt = P[0].cols();
+        if (A.size() == 0)
+            A.setZero(3 * ns, 3 * nt);
+        for (Index i = 0; i < ns; ++i)
+            for (Index j = 0; j < nt; ++j)
+                for (int a = 0; a < 3; ++a)
+                    for (int c = 0; c < 3; ++c)
+                        A(3 * i + a, 3 * j + c) += w * fd.axes[a]
+                            * (lambda * n[a] * P[std::size_t(c)](i, j)
+                                + mu * n[c] * P[std::size_t(a)](i, j)
+                                + (a == c ? mu * nP(i, j) : 0.0));
+    }
     return A;
 }
 
 MatX DgModel::penalty_block(const FaceData& fd, int s, int t) const {
-    const FaceIntegrals& fi = fd.integrals;
+    MatX B;
+    for (const FaceIntegrals& fi : fd.parts) {
+        const MatX part = penalty_part(fd, fi, s, t);
+        if (B.size() == 0)
+            B = part;
+        else
+            B += part;
+    }
+    return B;
+}
+
+MatX DgModel::penalty_part(const FaceData& fd, const FaceIntegrals& fi, int s, int t) const {
     const MatX& S = fi.S[std::size_t(s)][std::size_t(t)];
     const Vec3& n = fi.normal;
     const double lambda = m_material.lambda(), mu = m_material.mu();
@@ -190,10 +207,10 @@ VecX DgModel::traction_load(const std::vector<Index>& faces, const Vec3& t) cons
         if (f < 0 || f >= m_mesh->num_faces() || !m_mesh->faces[std::size_t(f)].boundary())
             throw InputError("faces", "face " + std::to_string(f) + " is not a boundary face");
         const mesh::Face& face = m_mesh->faces[std::size_t(f)];
-        const FaceIntegrals fi
-            = face_integrals(m_mesh->rest, face.nodes, basis(face.owner), nullptr);
-        for (Index i = 0; i < fi.mean[0].size(); ++i)
-            F.segment<3>(dof(offset(face.owner) + i, 0)) += t * fi.mean[0][i];
+        for (const FaceIntegrals& fi :
+            face_integral_parts(m_mesh->rest, face.nodes, basis(face.owner), nullptr))
+            for (Index i = 0; i < fi.mean[0].size(); ++i)
+                F.segment<3>(dof(offset(face.owner) + i, 0)) += t * fi.mean[0][i];
     }
     return F;
 }
@@ -223,42 +240,43 @@ VecX DgModel::dirichlet_load(const Vec3& g0, const Mat3& G) const {
     const double w_full = normal_only ? 2.0 * mu : lambda + 2.0 * mu;
     const double w_normal = normal_only ? lambda : 0.0;
     for (const FaceData& fd : m_faces) {
-        if (fd.integrals.sides != 1)
+        if (fd.sides != 1)
             continue;
-        const FaceIntegrals& fi = fd.integrals;
-        const CellBasis& b = basis(fd.cells[0]);
-        const int p = b.degree;
-        const MatX Q = monomial_gram(fi.moments, p);
-        // g in the face frame: g(origin + scale zeta), degree 1, padded to num_monomials(p).
-        std::array<VecX, 3> g;
-        for (int a = 0; a < 3; ++a) {
-            g[std::size_t(a)] = VecX::Zero(num_monomials(p));
-            g[std::size_t(a)][0] = g0[a] + G.row(a).dot(fi.origin);
-            for (int k = 0; k < 3; ++k)
-                g[std::size_t(a)][1 + k] = fi.scale * G(a, k);
-            g[std::size_t(a)] *= fd.axes[a]; // P g: only the fixed components
-        }
-        const Vec3& n = fi.normal;
-        const Mat3 P = fd.axes.asDiagonal();
-        const Mat3 W = P * (w_full * Mat3::Identity() + w_normal * n * n.transpose()) * P;
-        const Index ng = num_monomials(p - 1);
-        for (int i = 0; i < b.size(); ++i) {
-            Vec3 value; // int_F g_c phi_i
-            Mat3 grad; // grad(c, k) = int_F g_c d_k phi_i
-            for (int c = 0; c < 3; ++c) {
-                value[c] = fi.values[0].row(i) * Q * g[std::size_t(c)];
-                for (int k = 0; k < 3; ++k)
-                    grad(c, k) = fi.gradients[0][std::size_t(k)].row(i) * Q.topRows(ng)
-                        * g[std::size_t(c)];
-            }
+        for (const FaceIntegrals& fi : fd.parts) {
+            const CellBasis& b = basis(fd.cells[0]);
+            const int p = b.degree;
+            const MatX Q = monomial_gram(fi.moments, p);
+            // g in the face frame: g(origin + scale zeta), degree 1, padded to num_monomials(p).
+            std::array<VecX, 3> g;
             for (int a = 0; a < 3; ++a) {
-                double rhs = fd.eta * W.row(a).dot(value);
-                if (m_options.flux == Flux::InteriorPenalty)
-                    // - int_F g . sigma(phi_i e_a) n
-                    for (int c = 0; c < 3; ++c)
-                        rhs -= lambda * n[c] * grad(c, a) + mu * n[a] * grad(c, c)
-                            + (c == a ? mu * n.dot(grad.row(c)) : 0.0);
-                F[dof(offset(fd.cells[0]) + i, a)] += rhs;
+                g[std::size_t(a)] = VecX::Zero(num_monomials(p));
+                g[std::size_t(a)][0] = g0[a] + G.row(a).dot(fi.origin);
+                for (int k = 0; k < 3; ++k)
+                    g[std::size_t(a)][1 + k] = fi.scale * G(a, k);
+                g[std::size_t(a)] *= fd.axes[a]; // P g: only the fixed components
+            }
+            const Vec3& n = fi.normal;
+            const Mat3 P = fd.axes.asDiagonal();
+            const Mat3 W = P * (w_full * Mat3::Identity() + w_normal * n * n.transpose()) * P;
+            const Index ng = num_monomials(p - 1);
+            for (int i = 0; i < b.size(); ++i) {
+                Vec3 value; // int_F g_c phi_i
+                Mat3 grad; // grad(c, k) = int_F g_c d_k phi_i
+                for (int c = 0; c < 3; ++c) {
+                    value[c] = fi.values[0].row(i) * Q * g[std::size_t(c)];
+                    for (int k = 0; k < 3; ++k)
+                        grad(c, k) = fi.gradients[0][std::size_t(k)].row(i) * Q.topRows(ng)
+                            * g[std::size_t(c)];
+                }
+                for (int a = 0; a < 3; ++a) {
+                    double rhs = fd.eta * W.row(a).dot(value);
+                    if (m_options.flux == Flux::InteriorPenalty)
+                        // - int_F g . sigma(phi_i e_a) n
+                        for (int c = 0; c < 3; ++c)
+                            rhs -= lambda * n[c] * grad(c, a) + mu * n[a] * grad(c, c)
+                                + (c == a ? mu * n.dot(grad.row(c)) : 0.0);
+                    F[dof(offset(fd.cells[0]) + i, a)] += rhs;
+                }
             }
         }
     }

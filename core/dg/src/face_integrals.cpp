@@ -48,4 +48,21 @@ FaceIntegrals face_integrals(const std::vector<Vec3>& points, std::span<const In
     return fi;
 }
 
+std::vector<FaceIntegrals> face_integral_parts(const std::vector<Vec3>& points,
+    std::span<const Index> loop, const CellBasis& owner, const CellBasis* neighbour) {
+    if (is_planar(points, loop))
+        return { face_integrals(points, loop, owner, neighbour) };
+    Vec3 mean = Vec3::Zero();
+    for (Index v : loop)
+        mean += points[std::size_t(v)] / double(loop.size());
+    std::vector<FaceIntegrals> parts;
+    const Index tri[3] = { 0, 1, 2 };
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+        const std::vector<Vec3> corners = { mean, points[std::size_t(loop[i])],
+            points[std::size_t(loop[(i + 1) % loop.size()])] };
+        parts.push_back(face_integrals(corners, tri, owner, neighbour));
+    }
+    return parts;
+}
+
 } // namespace polycut::dg

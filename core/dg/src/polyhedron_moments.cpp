@@ -98,6 +98,22 @@ std::vector<Vec3> to_local(const std::vector<Vec3>& points, std::span<const Inde
 }
 } // namespace
 
+bool is_planar(const std::vector<Vec3>& points, std::span<const Index> loop) {
+    if (loop.size() <= 3)
+        return true;
+    Vec3 mean = Vec3::Zero();
+    for (Index v : loop)
+        mean += points[std::size_t(v)] / double(loop.size());
+    double size = 0;
+    for (Index v : loop)
+        size = std::max(size, (points[std::size_t(v)] - mean).norm());
+    const Vec3 n = polygon_normal(points, loop, nullptr);
+    for (Index v : loop)
+        if (std::abs((points[std::size_t(v)] - mean).dot(n)) > kPlanarTolerance * size)
+            return false;
+    return true;
+}
+
 Vec3 polygon_normal(const std::vector<Vec3>& points, std::span<const Index> loop, double* area) {
     Vec3 n = Vec3::Zero();
     const Vec3& base = points[std::size_t(loop[0])];
@@ -124,18 +140,37 @@ VecX polyhedron_moments(const std::vector<Vec3>& points,
     check(degree, scale);
     const int n = num_monomials(degree);
     VecX out = VecX::Zero(n);
-    for (const auto& loop : loops) {
-        const Vec3 normal = polygon_normal(points, loop, nullptr);
-        if (loop.size() < 3 || normal.isZero())
-            continue;
-        const std::vector<Vec3> xi = to_local(points, loop, origin, scale);
-        // b = distance of the face plane from the local origin (x0 = 0 for the volume).
+    // One planar piece: b = distance of its plane from the local origin (x0 = 0 for the
+    // volume).
+    auto add_piece = [&](const std::vector<Vec3>& xi) {
+        Vec3 twice = Vec3::Zero();
+        for (std::size_t i = 1; i + 1 < xi.size(); ++i)
+            twice += (xi[i] - xi[0]).cross(xi[i + 1] - xi[0]);
+        if (!(twice.norm() > 0))
+            return;
+        const Vec3 normal = twice.normalized();
         Vec3 mean = Vec3::Zero();
         for (const Vec3& x : xi)
             mean += x;
         const double b = normal.dot(mean / double(xi.size()));
         if (b != 0)
             out += b * local_polygon_moments(xi, normal, degree);
+    };
+    for (const auto& loop : loops) {
+        if (loop.size() < 3)
+            continue;
+        const std::vector<Vec3> xi = to_local(points, loop, origin, scale);
+        if (is_planar(points, loop)) {
+            add_piece(xi);
+            continue;
+        }
+        // A warped face: the triangles around its mean point (face_integral_parts does the
+        // same, so neighbours and face terms agree on the surface).
+        Vec3 mean = Vec3::Zero();
+        for (const Vec3& x : xi)
+            mean += x / double(xi.size());
+        for (std::size_t i = 0; i < xi.size(); ++i)
+            add_piece({ mean, xi[i], xi[(i + 1) % xi.size()] });
     }
     for (int q = 0; q <= degree; ++q) {
         const int begin = num_monomials(q - 1), end = num_monomials(q);

@@ -10,9 +10,12 @@
 
 namespace polycut::dg {
 
-std::vector<double> principal_stress(const DgModel& model, const MatX3& x) {
+std::vector<double> principal_stress(
+    const DgModel& model, const MatX3& x, std::vector<Vec3>* directions) {
     const double lambda = model.material().lambda(), mu = model.material().mu();
     std::vector<double> out(std::size_t(model.num_cells()));
+    if (directions)
+        directions->assign(std::size_t(model.num_cells()), Vec3::UnitX());
     for (Index c = 0; c < model.num_cells(); ++c) {
         const Vec3 X = model.basis(c).center;
         const Mat3& R = model.rotation(c);
@@ -20,8 +23,11 @@ std::vector<double> principal_stress(const DgModel& model, const MatX3& x) {
         const Mat3 G = R.transpose() * F - Mat3::Identity();
         const Mat3 eps = 0.5 * (G + G.transpose());
         const Mat3 sigma = lambda * eps.trace() * Mat3::Identity() + 2.0 * mu * eps;
-        const Eigen::SelfAdjointEigenSolver<Mat3> eig(sigma, Eigen::EigenvaluesOnly);
-        out[std::size_t(c)] = eig.eigenvalues().cwiseAbs().maxCoeff();
+        const Eigen::SelfAdjointEigenSolver<Mat3> eig(sigma);
+        Index k = 0;
+        out[std::size_t(c)] = eig.eigenvalues().cwiseAbs().maxCoeff(&k);
+        if (directions)
+            (*directions)[std::size_t(c)] = eig.eigenvectors().col(k);
     }
     return out;
 }

@@ -2,6 +2,7 @@
 #include "dg_part.hpp"
 
 #include "polycut/common/error.hpp"
+#include "polycut/cut/cutter.hpp"
 #include "polycut/dg/refine.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
@@ -158,30 +159,86 @@ std::unique_ptr<DgPart> dg_after_cut(const DgPart& old, const scene::Scene& s, c
 std::unique_ptr<DgPart> dg_refine(
     const DgPart& old, const scene::Scene& s, mesh::Mesh& m, MatX3& x, MatX3& v) {
     const dg::DgModel& om = *old.model;
-    const std::vector<double> stress = dg::principal_stress(om, x);
-    std::vector<Index> hot;
+    std::vector<Vec3> direction;
+    const std::vector<double> stress = dg::principal_stress(om, x, &direction);
+    std::vector<Index> hexes, others;
     for (Index c = 0; c < om.num_cells(); ++c) {
         const int level = std::size_t(c) < old.level.size() ? old.level[std::size_t(c)] : 0;
-        if (stress[std::size_t(c)] > s.dg.refine_stress && level < s.dg.refine_levels
-            && m.cells[std::size_t(c)].shape == mesh::CellShape::Hex)
-            hot.push_back(c);
+        if (stress[std::size_t(c)] > s.dg.refine_stress && level < s.dg.refine_levels)
+            (m.cells[std::size_t(c)].shape == mesh::CellShape::Hex ? hexes : others).push_back(c);
     }
-    if (hot.empty())
+    if (hexes.empty() && others.empty())
         return nullptr;
-    dg::Refinement r = dg::refine_hexes(m, hot);
-    if (r.split == 0)
-        return nullptr;
-    m = std::move(r.mesh); // `om` keeps its bases: the transfer needs nothing else of it
+    // Hexes 1-to-8 (a new mesh; `source` maps its cells to the old ones).
+    std::vector<Index> source(std::size_t(m.num_cells()));
+    std::vector<std::uint8_t> child(std::size_t(m.num_cells()), 0);
+    for (Index c = 0; c < m.num_cells(); ++c)
+        source[std::size_t(c)] = c;
+    if (!hexes.empty()) {
+        dg::Refinement r = dg::refine_hexes(m, hexes);
+        m = std::move(r.mesh); // `om` keeps its bases: the transfer needs nothing else of it
+        source = std::move(r.source);
+        child = std::move(r.child);
+    }
+    // Other cells 1-to-2 by the plane through their centroid perpendicular to the principal
+    // direction (003 sec. 10), with core/cut's plane split (convex cells stay convex).
+    if (!others.empty()) {
+        std::vector<Index> where(std::size_t(om.num_cells()), kNone); // old id -> current id
+        for (std::size_t c = 0; c < source.size(); ++c)
+            if (!child[c])
+                where[std::size_t(source[c])] = Index(c);
+        cut::Cutter cutter(m);
+        for (Index o : others) {
+            const Index c = where[std::size_t(o)];
+            if (c == kNone)
+                continue;
+            const Index cells[1] = { c };
+            const cut::CutReport rep
+                = cutter.split_by_plane(m.cell_centroid(c), direction[std::size_t(o)], cells);
+            const std::vector<Index> source_before = source; // by ids before the call
+            if (!rep.cell_map.empty()) {
+                // Sliver merges renumbered cells: carry the maps over.
+                std::vector<Index> s2(std::size_t(m.num_cells()), kNone);
+                std::vector<std::uint8_t> c2(std::size_t(m.num_cells()), 0);
+                for (std::size_t k = 0; k < rep.cell_map.size(); ++k)
+                    if (const Index n = rep.cell_map[k]; n != kNone && n < m.num_cells()) {
+                        s2[std::size_t(n)] = source[k];
+                        c2[std::size_t(n)] = child[k];
+                    }
+                source = std::move(s2);
+                child = std::move(c2);
+                for (Index& w : where)
+                    if (w != kNone)
+                        w = w < Index(rep.cell_map.size()) ? rep.cell_map[std::size_t(w)] : kNone;
+            }
+            source.resize(std::size_t(m.num_cells()), kNone);
+            child.resize(std::size_t(m.num_cells()), 0);
+            for (const cut::CellOrigin& n : rep.new_cells) {
+                if (n.cell < 0 || n.cell >= m.num_cells() || n.parent < 0
+                    || std::size_t(n.parent) >= source_before.size())
+                    continue;
+                source[std::size_t(n.cell)] = source_before[std::size_t(n.parent)];
+                child[std::size_t(n.cell)] = 1;
+                const Index parent_now
+                    = rep.cell_map.empty() ? n.parent : rep.cell_map[std::size_t(n.parent)];
+                if (parent_now != kNone && parent_now < m.num_cells())
+                    child[std::size_t(parent_now)] = 1;
+            }
+        }
+    }
+    for (Index c = 0; c < m.num_cells(); ++c)
+        if (source[std::size_t(c)] == kNone)
+            throw Error("refine", "cell " + std::to_string(c) + " has no cell it came from");
     auto part = make_dg_part(s, m);
     const dg::DgModel& nm = *part->model;
-    const MatX3 u = dg::transfer_field(om, x - om.rest(), nm, r.source);
-    v = dg::transfer_field(om, v, nm, r.source);
+    const MatX3 u = dg::transfer_field(om, x - om.rest(), nm, source);
+    v = dg::transfer_field(om, v, nm, source);
     x = nm.rest() + u;
     part->level.resize(std::size_t(nm.num_cells()));
     for (Index c = 0; c < nm.num_cells(); ++c) {
-        const Index o = r.source[std::size_t(c)];
+        const Index o = source[std::size_t(c)];
         const int before = std::size_t(o) < old.level.size() ? old.level[std::size_t(o)] : 0;
-        part->level[std::size_t(c)] = before + (r.child[std::size_t(c)] ? 1 : 0);
+        part->level[std::size_t(c)] = before + (child[std::size_t(c)] ? 1 : 0);
     }
     return part;
 }

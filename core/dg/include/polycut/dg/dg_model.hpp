@@ -126,13 +126,17 @@ private:
     struct FaceData {
         Index face = kNone;
         Index cells[2] = { kNone, kNone };
-        FaceIntegrals integrals;
+        /// The face's planar parts (one, or the triangles of a warped face)
+        std::vector<FaceIntegrals> parts;
+        int sides = 2; ///< 1 for a Dirichlet face
+        double area = 0; ///< |F| [m^2]
         double eta = 0; ///< alpha p^2 |F| / min |K| [1/m]
         Vec3 axes = Vec3::Ones(); ///< Dirichlet faces: 1 for a fixed component, else 0
     };
     /// Face block (s, t) of the consistency term A^{st} (3nb_s x 3nb_t) (see the .cpp).
     MatX consistency_block(const FaceData& fd, int s, int t) const;
     MatX penalty_block(const FaceData& fd, int s, int t) const;
+    MatX penalty_part(const FaceData& fd, const FaceIntegrals& part, int s, int t) const;
     MatX volume_stiffness(const CellBasis& b) const;
     /// Builds the pattern, the constant penalty matrix, the per-cell corotated blocks and the
     /// linear stiffness (dg_assembly.cpp).

@@ -36,4 +36,9 @@ struct FaceIntegrals {
 FaceIntegrals face_integrals(const std::vector<Vec3>& points, std::span<const Index> loop,
     const CellBasis& owner, const CellBasis* neighbour);
 
+/// The face as planar parts: itself when planar, else the triangles joining its mean point to
+/// each edge (is_planar(), the same pieces the volume moments use), each with its own normal.
+std::vector<FaceIntegrals> face_integral_parts(const std::vector<Vec3>& points,
+    std::span<const Index> loop, const CellBasis& owner, const CellBasis* neighbour);
+
 } // namespace polycut::dg

@@ -17,8 +17,9 @@ namespace polycut::dg {
 
 /// Integrals over a polyhedron (faces as outward loops of indices into `points`) of every
 /// monomial of xi = (x - origin) / scale of degree <= degree (num_monomials(degree), graded
-/// order of polynomial.hpp) [m^3]. Faces must be planar simple polygons; the polyhedron may be
-/// non-convex. Throws InputError for degree outside [0, kMaxDegree] or scale <= 0.
+/// order of polynomial.hpp) [m^3]. Faces are simple polygons, planar or warped (then taken as
+/// the triangles around their mean point); the polyhedron may be non-convex. Throws InputError for
+/// degree outside [0, kMaxDegree] or scale <= 0.
 VecX polyhedron_moments(const std::vector<Vec3>& points,
     const std::vector<std::vector<Index>>& loops, const Vec3& origin, double scale, int degree);
 
@@ -26,6 +27,14 @@ VecX polyhedron_moments(const std::vector<Vec3>& points,
 /// every monomial of xi = (x - origin) / scale of degree <= degree [m^2].
 VecX polygon_moments(const std::vector<Vec3>& points, std::span<const Index> loop,
     const Vec3& origin, double scale, int degree);
+
+/// Vertices further than this fraction of a loop's size from its mean plane make it warped.
+inline constexpr double kPlanarTolerance = 1e-12;
+
+/// Whether the loop's vertices lie in one plane (to kPlanarTolerance of its size). Warped
+/// loops (a cut's snapped nodes, moved nodes) are integrated as the triangles joining their
+/// mean point to each edge, by the volume moments here and by face_integral_parts.
+bool is_planar(const std::vector<Vec3>& points, std::span<const Index> loop);
 
 /// Unit normal of a planar polygon by Newell's method, oriented by the loop (right-hand rule),
 /// and its area [m^2] (0 and a zero normal for a degenerate loop).

@@ -18,8 +18,9 @@ class DgModel;
 
 /// Largest absolute principal stress [Pa] of each cell at its centroid, from the field x
 /// (linear strain of R^T F with R the cell's cached rotation; identity before a corotated
-/// assembly).
-std::vector<double> principal_stress(const DgModel& model, const MatX3& x);
+/// assembly). With `directions`, also each cell's principal direction of that stress (unit).
+std::vector<double> principal_stress(
+    const DgModel& model, const MatX3& x, std::vector<Vec3>* directions = nullptr);
 
 /// A refined mesh and, per new cell, the old cell whose polynomial it starts from.
 struct Refinement {
