@@ -19,7 +19,7 @@ protected:
 
 std::optional<SurfaceFrame> next_surface(zmq::socket_t& sub) {
     for (int k = 0; k < 50; ++k) {
-        const auto frames = recv_message(sub, std::chrono::milliseconds(2000));
+        const auto frames = recv_message(sub, std::chrono::milliseconds(10000));
         if (!frames) {
             return std::nullopt;
         }
