@@ -4,9 +4,10 @@
 namespace polycut::protocol {
 
 namespace {
-constexpr std::array<std::string_view, kMethodCount> kNames = { "hello", "load_scene", "reset",
-    "pause", "resume", "step", "set_rate", "apply_force", "remove_force", "grab", "move_grab",
-    "release", "cut", "scalpel", "end_stroke", "get_surface", "get_stats", "shutdown", "tool_create", "tool_move", "tool_remove" };
+constexpr std::array<std::string_view, kMethodCount> kNames
+    = { "hello", "load_scene", "reset", "pause", "resume", "step", "set_rate", "apply_force",
+          "remove_force", "grab", "move_grab", "release", "cut", "scalpel", "end_stroke",
+          "get_surface", "get_stats", "shutdown", "tool_create", "tool_move", "tool_remove" };
 } // namespace
 
 std::string_view method_name(Method method) {

@@ -144,8 +144,7 @@ ToolCreateParams read_tool_create(ObjectReader& r) {
     p.position = read_point(r, "position");
     p.orientation = read_orientation(r);
     if (const json* v = r.optional("stiffness")) {
-        p.stiffness
-            = read_number(*v, r.at("stiffness"), Range { 0.0, kMaxContactStiffness, true });
+        p.stiffness = read_number(*v, r.at("stiffness"), Range { 0.0, kMaxContactStiffness, true });
     }
     if (const json* v = r.optional("friction")) {
         p.friction = read_number(*v, r.at("friction"), Range { 0.0, kMaxFriction });

@@ -121,16 +121,18 @@ TEST(ModelUpdate, CellsMergedAwayKeepTheSurvivorsDataAndEqualARebuild) {
 }
 
 namespace {
-/// A stroke of `steps` sweeps through the middle of a tet grid, each cut by `cut_one` and
-/// followed by ElasticModel::update_cells; the model must equal a fresh one after every cut
-/// (the incremental pattern: only the columns of nodes whose cells changed are rebuilt).
-template <class CutOne> void stroke_keeps_model_equal_to_rebuild(CutOne cut_one, unsigned seed) {
+/// A stroke of `steps` sweeps through the middle of a tet grid, each cut by one CutterT (the
+/// splitting Cutter or the SnapCutter, progressive) and followed by ElasticModel::update_cells;
+/// the model must equal a fresh one after every cut (the incremental pattern: only the columns
+/// of nodes whose cells changed are rebuilt).
+template <class CutterT> void stroke_keeps_model_equal_to_rebuild(unsigned seed) {
     mesh::BoxGrid g;
     g.hi = Vec3(0.04, 0.03, 0.02);
     g.cells = { 8, 6, 4 };
     mesh::Mesh m = mesh::tet_grid(g);
     const elasticity::Material mat = tissue();
     elasticity::ElasticModel model(m, mat, {}, fixed_for(m));
+    CutterT cutter(m);
     const int steps = 5;
     int cuts = 0;
     for (int k = 0; k < steps; ++k) {
@@ -139,7 +141,7 @@ template <class CutOne> void stroke_keeps_model_equal_to_rebuild(CutOne cut_one,
         const Vec3 a(x0, 0.0137, 0.03), b(x0, 0.0151, 0.008), c(x1, 0.0139, 0.03),
             d(x1, 0.0153, 0.008);
         const std::vector<cut::Triangle> tris { { a, b, c }, { b, d, c } };
-        const cut::CutReport r = cut_one(m, tris);
+        const cut::CutReport r = cutter.cut(tris);
         if (r.changed_cells.empty() && r.cells_after == r.cells_before)
             continue;
         ++cuts;
@@ -154,14 +156,7 @@ template <class CutOne> void stroke_keeps_model_equal_to_rebuild(CutOne cut_one,
 } // namespace
 
 TEST(ModelUpdate, SplitStrokeThroughTetGridEqualsARebuildAfterEveryCut) {
-    std::unique_ptr<cut::Cutter> cutter;
-    stroke_keeps_model_equal_to_rebuild(
-        [&](mesh::Mesh& m, const std::vector<cut::Triangle>& tris) {
-            if (!cutter)
-                cutter = std::make_unique<cut::Cutter>(m);
-            return cutter->cut(tris);
-        },
-        11);
+    stroke_keeps_model_equal_to_rebuild<cut::Cutter>(11);
 }
 
 TEST(ModelUpdate, ANodeLeftWithoutCellsLosesItsDofsAndTheLaterOnesMoveDown) {
@@ -201,12 +196,5 @@ TEST(ModelUpdate, ANodeLeftWithoutCellsLosesItsDofsAndTheLaterOnesMoveDown) {
 }
 
 TEST(ModelUpdate, SnapStrokeThroughTetGridEqualsARebuildAfterEveryCut) {
-    std::unique_ptr<cut::SnapCutter> cutter;
-    stroke_keeps_model_equal_to_rebuild(
-        [&](mesh::Mesh& m, const std::vector<cut::Triangle>& tris) {
-            if (!cutter)
-                cutter = std::make_unique<cut::SnapCutter>(m);
-            return cutter->cut(tris);
-        },
-        21);
+    stroke_keeps_model_equal_to_rebuild<cut::SnapCutter>(21);
 }

@@ -295,8 +295,8 @@ bool Integrator::step_implicit(State& s, StepReport& report, double h) {
     undo_penalty_blocks(m_A, m_penalty_in_A);
     if (evaluate_penalty(s.x, s.v, h, report)) {
         add_penalty_forces(m_penalty_set, &s.v, h, m_model->dof_map(), h, m_rhs);
-        report.penalty_entries_dropped += int(add_penalty_blocks(
-            m_penalty_set, m_model->dof_map(), h * h, h, m_A, m_penalty_in_A));
+        report.penalty_entries_dropped += int(
+            add_penalty_blocks(m_penalty_set, m_model->dof_map(), h * h, h, m_A, m_penalty_in_A));
     }
     if (!m_rhs.allFinite()) {
         report.status = solve::SolveStatus::NonFinite;

@@ -1,8 +1,8 @@
 // sim::Simulation queries: surface, probes, mesh figures, state hash, VTU output.
 #include "impl.hpp"
-#include "polycut/embed/embedding.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/cut/completeness.hpp"
+#include "polycut/embed/embedding.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"

@@ -40,8 +40,8 @@ inline constexpr std::size_t kMethodCount = 21;
 inline constexpr std::array<Method, kMethodCount> kAllMethods = { Method::Hello, Method::LoadScene,
     Method::Reset, Method::Pause, Method::Resume, Method::Step, Method::SetRate, Method::ApplyForce,
     Method::RemoveForce, Method::Grab, Method::MoveGrab, Method::Release, Method::Cut,
-    Method::Scalpel, Method::EndStroke, Method::GetSurface, Method::GetStats, Method::Shutdown, Method::ToolCreate,
-    Method::ToolMove, Method::ToolRemove };
+    Method::Scalpel, Method::EndStroke, Method::GetSurface, Method::GetStats, Method::Shutdown,
+    Method::ToolCreate, Method::ToolMove, Method::ToolRemove };
 
 /// Wire name, e.g. Method::ApplyForce -> "apply_force".
 std::string_view method_name(Method method);

@@ -54,7 +54,8 @@ struct Ack {
     bool operator==(const Ack&) const = default;
 };
 
-/// `apply_force`, `grab`, `tool_create` result: the new object's id (server-assigned, in [1, 2^53)).
+/// `apply_force`, `grab`, `tool_create` result: the new object's id (server-assigned, in [1,
+/// 2^53)).
 struct Created {
     std::uint64_t id = 0;
     std::int64_t tick = 0;
