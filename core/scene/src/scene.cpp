@@ -255,6 +255,7 @@ Solver parse_solver(const json& j, const std::string& ptr) {
         s.amg_interpolation_max_elements = int(
             a.integer("interpolation_max_elements", s.amg_interpolation_max_elements, 0, 100));
         s.amg_rigid_body_modes = a.boolean("rigid_body_modes", s.amg_rigid_body_modes);
+        s.amg_node_blocks = a.boolean("node_blocks", s.amg_node_blocks);
         s.amg_background_solves
             = int(a.integer("background_solves", s.amg_background_solves, 0, 1000));
         a.finish();

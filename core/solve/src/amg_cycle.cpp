@@ -134,6 +134,9 @@ bool AmgCycle::finish(const SparseMatrix& A) {
     m_fine_residual.setZero(n);
     m_fine_inverse_diagonal.setZero(n);
     m_A = &A;
+    // before the thread blocks, which then fall on node bounds
+    if (!m_node_blocks_wanted || !find_node_blocks(A))
+        m_node_ptr.clear();
     find_block_slots();
     m_A = nullptr;
     // the coarsest operator (the fine matrix itself when there is no coarse level)
@@ -176,8 +179,13 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
         r = m_levels[l - 1].r.data();
     }
     const bool hybrid = l == 0 && m_threads > 1;
-    if (hybrid)
+    const bool blocks = l == 0 && !m_node_ptr.empty();
+    if (hybrid && blocks)
+        fine_down_blocks_hybrid(b, x);
+    else if (hybrid)
         fine_down_hybrid(b, x);
+    else if (blocks)
+        fine_down_blocks(b, x, r);
     else {
         forward_from_zero(a, b, x);
         upper_residual(a, x, r);
@@ -201,8 +209,12 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
             s += P.value[std::size_t(k)] * xc[P.column[std::size_t(k)]];
         x[i] += s;
     }
-    if (hybrid)
+    if (hybrid && blocks)
+        fine_up_blocks_hybrid(b, x);
+    else if (hybrid)
         fine_up_hybrid(b, x);
+    else if (blocks)
+        fine_up_blocks(b, x);
     else
         backward(a, b, x);
 }
@@ -228,8 +240,20 @@ bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
         if (!finish(*matrix))
             return false;
     m_A = matrix;
-    if (m_block_rows.size() != std::size_t(m_threads) + 1)
+    if (m_block_rows.size() != std::size_t(m_threads) + 1) {
         find_block_slots();
+        m_blocks_stale = true;
+    }
+    if (!m_node_ptr.empty()) {
+        if (m_blocks_stale && !refresh_node_blocks(*matrix)) {
+            m_A = nullptr;
+            return false;
+        }
+        m_blocks_stale = false;
+        cycle(0, r.data(), z.data());
+        m_A = nullptr;
+        return true;
+    }
     const double* values = matrix->valuePtr();
     for (long i = 0; i < m_fine_rows; ++i)
         m_fine_inverse_diagonal[i] = 1.0 / values[m_fine_diagonal[std::size_t(i)]];
@@ -287,8 +311,10 @@ void AmgCycle::find_block_slots() {
     const int n = int(m_fine_rows);
     const int T = m_threads;
     m_block_rows.assign(std::size_t(T) + 1, n);
+    // node blocks: whole nodes per thread
+    const long unit = m_node_ptr.empty() ? 1 : 3;
     for (int t = 0; t < T; ++t)
-        m_block_rows[std::size_t(t)] = int(long(n) * t / T);
+        m_block_rows[std::size_t(t)] = int(unit * (long(n) / unit * t / T));
     m_block_begin.resize(std::size_t(n));
     m_block_end.resize(std::size_t(n));
     m_cross.setZero(n);
@@ -304,6 +330,7 @@ void AmgCycle::find_block_slots() {
             m_block_end[std::size_t(i)] = int(std::lower_bound(begin, end, hi) - inner);
         }
     }
+    find_node_block_ranges();
 }
 
 void AmgCycle::fine_down_hybrid(const double* b, double* x) {
@@ -365,6 +392,8 @@ void AmgCycle::fine_up_hybrid(const double* b, double* x) {
 
 void AmgCycle::clear() {
     m_levels.clear();
+    m_node_ptr.clear();
+    m_blocks_stale = true;
     m_fine_rows = m_fine_nonzeros = -1;
     m_fine_diagonal.clear();
     m_ready = false;

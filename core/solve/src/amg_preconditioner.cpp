@@ -265,6 +265,7 @@ struct AmgPreconditioner::Impl {
         HYPRE_ClearAllErrors();
         use_cycle = false;
         cycle.clear();
+        cycle.set_node_blocks(options.node_blocks);
         if (fused_wanted() && copy_hierarchy_locked(*source)) {
             // hypre's copies are no longer needed
             const long rows_kept = n;
@@ -371,6 +372,10 @@ SolveStatus AmgPreconditioner::setup(const SparseMatrix& A) {
 
 SolveStatus AmgPreconditioner::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
     return m_impl->apply(A, r, z);
+}
+
+void AmgPreconditioner::matrix_changed() {
+    m_impl->cycle.matrix_changed();
 }
 
 void AmgPreconditioner::set_threads(int threads) {

@@ -27,6 +27,9 @@ public:
     /// it). NotReady before a successful setup() or on size mismatch; NonFinite if z is not
     /// finite.
     SolveStatus apply(const SparseMatrix& A, const Vector& r, Vector& z);
+    /// The next apply()'s matrix has new values (a new solve): the fused cycle refreshes its
+    /// copy of the finest level then (amg_cycle.hpp, "Node blocks"). Call once per solve.
+    void matrix_changed();
     /// Threads for the fused cycle's finest level (hybrid Gauss-Seidel, amg_cycle.hpp); 1 =
     /// serial. hypre's own cycle stays serial.
     void set_threads(int threads);

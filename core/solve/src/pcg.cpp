@@ -468,6 +468,7 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
         return result;
     }
     impl.resize(n);
+    impl.amg.matrix_changed(); // A's values are new (or may be)
     result.status = impl.prepare(A, result);
     result.refactored = impl.installed;
     impl.installed = false;

@@ -50,6 +50,10 @@ struct AmgOptions {
     /// matrix instead of the set-up's. Only with GaussSeidel, one sweep, no cf_order (else
     /// hypre's cycle runs).
     bool fused_cycle = true;
+    /// fused_cycle on a matrix whose unknowns come as whole nodes (3 per node, one 3x3-block
+    /// pattern): smooth the finest level by 3x3 block Gauss-Seidel on a block-CSR copy refreshed
+    /// once per solve (amg_cycle.hpp, "Node blocks"); false: point Gauss-Seidel on the matrix.
+    bool node_blocks = true;
     /// A set-up that the lagged rule asks for (PcgOptions::refactor_iterations) runs on a worker
     /// thread and is installed exactly this many solves later, waiting for it if it is late (a
     /// fixed hand-over, so a replayed command log solves the same); the old hierarchy, carried
