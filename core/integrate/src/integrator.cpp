@@ -311,6 +311,7 @@ bool Integrator::step_implicit(State& s, StepReport& report, double h) {
             m_dv = 2.0 * m_tmp - m_dv_prev;
     }
     pass_coordinates(s.x);
+    m_solver.set_absolute_tolerance(m_options.solver.load_tolerance * h * m_fext_r.norm());
     if (!linear_solve(m_A, m_rhs, m_dv, report))
         return false;
     if (m_options.extrapolate_warm_start)

@@ -192,6 +192,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
         : sv.preconditioner == "amg"               ? integrate::LinearSolverKind::PcgAmg
                                                    : integrate::LinearSolverKind::PcgJacobi;
     o.solver.relative_tolerance = sv.tolerance;
+    o.solver.load_tolerance = sv.load_tolerance;
     o.solver.max_iterations = sv.max_iterations;
     o.solver.refactor_every = sv.refactor_every;
     o.solver.refactor_iterations = sv.refactor_iterations;

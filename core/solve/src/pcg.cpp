@@ -475,7 +475,8 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     if (result.status != SolveStatus::Ok)
         return result;
 
-    const double target = impl.options.relative_tolerance * b_norm;
+    const double target
+        = std::max(impl.options.relative_tolerance * b_norm, impl.options.absolute_tolerance);
     result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
     int iterations_with_factor = result.iterations;
     // A stale lagged factor (or AMG hierarchy) that cannot reach the tolerance: refactor once and
@@ -514,6 +515,10 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     // residual, equal to the true one up to round-off, without another SpMV
     result.relative_residual = impl.r.norm() / b_norm;
     return result;
+}
+
+void PcgSolver::set_absolute_tolerance(double tolerance) {
+    m_impl->options.absolute_tolerance = std::isfinite(tolerance) ? std::max(tolerance, 0.0) : 0.0;
 }
 
 void PcgSolver::set_preconditioner_factor(CholmodSolver&& factor) {

@@ -33,6 +33,8 @@ public:
     /// PcgAmg with rigid-body modes: node coordinates of the reduced DOFs (see
     /// solve::PcgSolver::set_coordinates) [m].
     void set_coordinates(const solve::Vector& coordinates) { m_pcg.set_coordinates(coordinates); }
+    /// PCG: also stop at ||r|| <= tolerance (b's units) from the next solve on.
+    void set_absolute_tolerance(double tolerance) { m_pcg.set_absolute_tolerance(tolerance); }
     /// PcgCellBlockJacobi: the starts of the reduced system's diagonal blocks.
     void set_blocks(std::vector<long> starts) { m_pcg.set_blocks(std::move(starts)); }
     /// The AMG hierarchy wants node coordinates (PcgAmg with AmgOptions::rigid_body_modes).

@@ -118,6 +118,7 @@ struct Solver {
     /// "lagged_cholesky", "amg" (hypre BoomerAMG)
     std::string preconditioner = "jacobi";
     double tolerance = 1e-6; ///< relative residual
+    double load_tolerance = 0; ///< residual floor as a fraction of h ||f_ext|| (0 = off)
     int max_iterations = 2000;
     /// lagged_cholesky, amg: refactor (set up again) every k solves (0 = on demand)
     int refactor_every = 0;

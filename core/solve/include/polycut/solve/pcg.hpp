@@ -33,7 +33,10 @@ enum class Preconditioner {
 const char* to_string(Preconditioner p);
 
 struct PcgOptions {
-    double relative_tolerance = 1e-6; ///< stop at ||r|| <= tol ||b|| (dimensionless)
+    double relative_tolerance = 1e-6; ///< stop at ||r|| <= tol ||b|| (dimensionless)...
+    /// ...or at ||r|| <= this (in b's units; 0 = none): a floor for right-hand sides that vanish,
+    /// as a time step's does when the body settles (set per solve: set_absolute_tolerance())
+    double absolute_tolerance = 0;
     int max_iterations = 1000;
     Preconditioner preconditioner = Preconditioner::Jacobi;
     /// LaggedCholesky, IncompleteCholesky, Amg: refactor (AMG: redo the set-up) every this many
@@ -74,6 +77,8 @@ struct PcgResult {
 /// allocates nothing after the first one (except when refactoring the lagged factor).
 class PcgSolver {
 public:
+    /// PcgOptions::absolute_tolerance for the following solves (>= 0, in b's units).
+    void set_absolute_tolerance(double tolerance);
     explicit PcgSolver(PcgOptions options = {});
     ~PcgSolver();
     PcgSolver(PcgSolver&&) noexcept;
