@@ -58,7 +58,8 @@ struct HexSliceReport {
 /// planar polygons on the grid planes as interior faces. The grid is placed around the
 /// surface's bounding box and moved by a small fraction of h if a surface vertex lies exactly
 /// on a grid plane. Throws InputError ("surface": not closed, ...; "options.<field>": out of
-/// range), MeshError if no cell results.
+/// range), MeshError if no cell results. Method mvc needs convex cells, which cut cells
+/// mostly are not: use dg or harmonic on hex-sliced meshes.
 mesh::Mesh hex_slice(
     const SurfaceMesh& surface, const HexSliceOptions& options, HexSliceReport* report = nullptr);
 
