@@ -27,7 +27,8 @@ using detail::to_vec;
 /// A file-based geometry in an inline scene may only name a file under the scene directory.
 std::optional<RpcError> check_inline_paths(const scene::Scene& s) {
     using Kind = scene::Geometry::Kind;
-    if (s.geometry.kind != Kind::SurfaceFile && s.geometry.kind != Kind::MeshFile) {
+    if (s.geometry.kind != Kind::SurfaceFile && s.geometry.kind != Kind::MeshFile
+        && !(s.geometry.kind == Kind::HexSlice && !s.geometry.path.empty())) {
         return std::nullopt;
     }
     const std::filesystem::path p(s.geometry.path);
@@ -36,7 +37,9 @@ std::optional<RpcError> check_inline_paths(const scene::Scene& s) {
         escapes = escapes || part == "..";
     }
     if (escapes) {
-        return make_error(ErrorCode::SceneError, "/params/scene/geometry/path",
+        return make_error(ErrorCode::SceneError,
+            s.geometry.kind == Kind::HexSlice ? "/params/scene/geometry/surface"
+                                              : "/params/scene/geometry/path",
             "an inline scene may only name files relative to the server's scene directory");
     }
     return std::nullopt;

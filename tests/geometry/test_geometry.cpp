@@ -54,6 +54,29 @@ TEST(Geometry, BoxVolumeCentroidConvexity)
     EXPECT_FALSE(polyhedron_is_convex(dented, loops));
 }
 
+TEST(Geometry, WindingNumberInsideOutsideAndInANotch)
+{
+    const auto p = cube_points();
+    const auto loops = cube_loops();
+    EXPECT_NEAR(polyhedron_winding(p, loops, Vec3(1, 1.5, 2.5)), 1.0, 1e-12);
+    EXPECT_NEAR(polyhedron_winding(p, loops, Vec3(1.9, 0.1, 4.9)), 1.0, 1e-12);
+    EXPECT_NEAR(polyhedron_winding(p, loops, Vec3(3, 1.5, 2.5)), 0.0, 1e-12);
+    EXPECT_NEAR(polyhedron_winding(p, loops, Vec3(1, 1.5, 2.5 + 1e3)), 0.0, 1e-12);
+    EXPECT_NEAR(polyhedron_winding(p, loops, Vec3(1, 1.5, 0)), 0.5, 1e-12); // on a face
+    // An L-shaped prism (non-convex): the L of PolygonAreaNormalCentroid extruded by 1.
+    std::vector<Vec3> L { { 0, 0, 0 }, { 2, 0, 0 }, { 2, 1, 0 }, { 1, 1, 0 }, { 1, 2, 0 },
+        { 0, 2, 0 } };
+    for (int i = 0; i < 6; ++i)
+        L.push_back(L[std::size_t(i)] + Vec3(0, 0, 1));
+    std::vector<std::vector<Index>> prism { { 5, 4, 3, 2, 1, 0 }, { 6, 7, 8, 9, 10, 11 } };
+    for (Index i = 0; i < 6; ++i)
+        prism.push_back({ i, (i + 1) % 6, (i + 1) % 6 + 6, i + 6 });
+    EXPECT_NEAR(polyhedron_volume(L, prism), 3.0, 1e-12);
+    EXPECT_FALSE(polyhedron_is_convex(L, prism));
+    EXPECT_NEAR(polyhedron_winding(L, prism, Vec3(0.5, 1.5, 0.5)), 1.0, 1e-12); // in the arm
+    EXPECT_NEAR(polyhedron_winding(L, prism, Vec3(1.5, 1.5, 0.5)), 0.0, 1e-12); // the notch
+}
+
 TEST(Geometry, AffineFitRecoversRotationAndStretch)
 {
     const auto X = cube_points();

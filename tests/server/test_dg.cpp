@@ -23,6 +23,26 @@ const char* kDgScene = R"({
   "loads": {"gravity": [0, 0, -9.81]}
 })";
 
+/// kDgScene on a hex-sliced sphere (003 sec. 10; 2.5 cm radius, 12 mm cubes) at p = 1,
+/// fixed on its underside.
+std::string hex_sliced_scene() {
+    std::string s = kDgScene;
+    auto swap
+        = [&](const std::string& from_key, const std::string& to_key, const std::string& text) {
+              const auto i = s.find(from_key), j = s.find(to_key, i);
+              s.replace(i, j - i, text);
+          };
+    swap("\"geometry\"", "\"method\"",
+        R"("geometry": {"type": "hex_slice", "surface": {"shape": "sphere", "radius": 0.025,
+        "triangle_size": 0.004}, "cell_size": 0.012},
+  )");
+    swap("\"basis\"", "\"material\"", "\"basis\": {\"degree\": 1},\n  ");
+    swap("\"fixed\"", "\"loads\"",
+        R"("fixed": [{"box": {"min": [-0.03, -0.03, -0.03], "max": [0.03, 0.03, -0.018]}}],
+  )");
+    return s;
+}
+
 class DgServer : public ::testing::Test {
 protected:
     SceneDir dir;
@@ -34,6 +54,19 @@ float top_height(const SurfaceSnapshot& s) {
     for (std::size_t i = 2; i < s.positions.size(); i += 3)
         top = std::max(top, s.positions[i]);
     return top;
+}
+
+/// A two-triangle cut changes the topology, adds cells, and the simulation steps 5 more ticks.
+void cut_and_step(Client& client, const std::vector<Triangle3>& blade, std::uint64_t cells_before,
+    std::uint64_t tick_after) {
+    const auto v0 = client.stats().topology_version;
+    const auto cut = client.ok<CutResult>(CutParams { blade });
+    EXPECT_EQ(cut.triangles, 2u);
+    EXPECT_GT(cut.topology_version, v0);
+    client.ok<RunState>(StepParams { 5 });
+    const auto after = client.stats();
+    EXPECT_GT(after.cell_count, cells_before);
+    EXPECT_EQ(after.tick, tick_after);
 }
 
 } // namespace
@@ -63,14 +96,23 @@ TEST_F(DgServer, LoadsStepsGrabsAndCutsADgScene) {
     EXPECT_GT(top_height(pulled), 0.0205f);
     client.ok<Ack>(ReleaseParams { grab.id });
     // A cut changes the topology and the simulation steps on.
-    const auto v0 = client.stats().topology_version;
-    const auto cut = client.ok<CutResult>(CutParams { incision(0.003, -0.012, 0.012, 0.008) });
-    EXPECT_EQ(cut.triangles, 2u);
-    EXPECT_GT(cut.topology_version, v0);
-    client.ok<RunState>(StepParams { 5 });
-    const auto after = client.stats();
-    EXPECT_GT(after.cell_count, 4u * 4u * 2u);
-    EXPECT_EQ(after.tick, 35);
+    cut_and_step(client, incision(0.003, -0.012, 0.012, 0.008), 4u * 4u * 2u, 35);
+}
+
+TEST_F(DgServer, LoadsStepsAndCutsAHexSlicedScene) {
+    RunningServer server(test_config(dir, true));
+    Client client(context, server.control());
+    LoadSceneParams load;
+    load.scene_json = hex_sliced_scene();
+    const auto loaded = client.ok<SceneResult>(load);
+    EXPECT_GT(loaded.cell_count, 20u);
+    client.ok<RunState>(StepParams { 10 });
+    const auto sagged = client.ok<SurfaceSnapshot>(GetSurfaceParams {});
+    EXPECT_EQ(sagged.header.tick, 10);
+    EXPECT_LT(top_height(sagged), 0.025f); // the top sags below the sphere's top
+    EXPECT_GT(top_height(sagged), 0.02f);
+    // A cut through the top of the sphere (z from 0.03 down to 0.01) splits cut cells.
+    cut_and_step(client, incision(0.002, -0.02, 0.02, 0.01), loaded.cell_count, 15);
 }
 
 } // namespace polycut::server::testing

@@ -2,6 +2,9 @@
 
 #include "polycut/geometry/polygon.hpp"
 
+#include <cmath>
+#include <numbers>
+
 namespace polycut::geometry {
 namespace {
     // Fan-triangulates each loop around its vertex mean (exact for planar loops) and calls
@@ -71,6 +74,20 @@ bool polyhedron_is_convex(const std::vector<Vec3>& points,
                     return false;
     }
     return true;
+}
+
+double polyhedron_winding(const std::vector<Vec3>& points,
+    const std::vector<std::vector<Index>>& loops, const Vec3& x)
+{
+    double omega = 0;
+    for_each_triangle(points, loops, [&](const Vec3& pa, const Vec3& pb, const Vec3& pc) {
+        const Vec3 a = pa - x, b = pb - x, c = pc - x;
+        const double la = a.norm(), lb = b.norm(), lc = c.norm();
+        omega += 2
+            * std::atan2(a.dot(b.cross(c)),
+                la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+    });
+    return omega / (4 * std::numbers::pi);
 }
 
 } // namespace polycut::geometry

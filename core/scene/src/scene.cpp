@@ -90,11 +90,60 @@ void parse_surface_repair(ObjectReader& r, Geometry& g) {
     }
 }
 
+/// The implicit shape fields (geometry "implicit", and hex_slice's "surface" object).
+void parse_implicit_shape(ObjectReader& r, Geometry& g) {
+    g.shape
+        = r.choice("shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
+    g.center = r.vec3("center", g.center, false, "m");
+    if (g.shape == "sphere" || g.shape == "capsule" || g.shape == "hollow_sphere") {
+        const double radius = r.number_required("radius", 0, kMaxLength, true, "m");
+        g.radii = Vec3::Constant(radius);
+        if (g.shape == "hollow_sphere") {
+            g.inner_radius = r.number_required("inner_radius", 0, kMaxLength, true, "m");
+            if (!(g.inner_radius < radius))
+                r.fail("inner_radius", "must be smaller than \"radius\"");
+        }
+    } else {
+        g.radii = r.vec3("radii", g.radii, g.shape == "ellipsoid", "m");
+        for (int i = 0; i < 3; ++i)
+            if (!(g.radii[i] > 0))
+                throw SceneError(r.child("radii") + "/" + std::to_string(i), "must be > 0 [m]");
+    }
+    if (g.shape == "capsule")
+        g.length = r.number_required("length", 0, kMaxLength, false, "m");
+}
+
+/// hex_slice (003 sec. 10): a grid of cubes of `cell_size` intersected with a closed surface, a
+/// file (string) or an implicit shape (object).
+void parse_hex_slice(ObjectReader& r, Geometry& g) {
+    g.kind = Geometry::Kind::HexSlice;
+    const json& surface = r.get("surface");
+    if (surface.is_string()) {
+        g.path = surface.get<std::string>();
+        if (g.path.empty())
+            r.fail("surface", "must name a surface file (relative to the scene file)");
+        g.scale = r.number("scale", 1.0, 0, kMaxLength, true);
+        parse_surface_repair(r, g);
+    } else if (surface.is_object()) {
+        ObjectReader sr(surface, r.child("surface"));
+        parse_implicit_shape(sr, g);
+        g.triangle_size = sr.number("triangle_size", 0, 0, kMaxLength, false, "m");
+        g.seed = unsigned(sr.integer("seed", 0, 0, std::numeric_limits<int>::max()));
+        sr.finish();
+    } else {
+        r.fail("surface",
+            "must be a surface file path or an implicit shape {\"shape\": \"sphere\", ...}");
+    }
+    g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
+    g.merge_fraction = r.number("merge_fraction", g.merge_fraction, 0, 0.99, false);
+}
+
 Geometry parse_geometry(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Geometry g;
     const std::string type = r.choice("type", "",
-        { "box", "implicit", "surface_file", "mesh_file", "random_planes", "convex_hull" });
+        { "box", "implicit", "surface_file", "mesh_file", "random_planes", "convex_hull",
+            "hex_slice" });
     if (type == "box" || type == "random_planes") {
         g.kind = type == "box" ? Geometry::Kind::Box : Geometry::Kind::RandomPlanes;
         if (type == "box" && r.has("corners")) {
@@ -137,25 +186,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         g.seed = unsigned(r.integer("seed", 1, 0, std::numeric_limits<int>::max()));
     } else if (type == "implicit") {
         g.kind = Geometry::Kind::Implicit;
-        g.shape
-            = r.choice("shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
-        g.center = r.vec3("center", g.center, false, "m");
-        if (g.shape == "sphere" || g.shape == "capsule" || g.shape == "hollow_sphere") {
-            const double radius = r.number_required("radius", 0, kMaxLength, true, "m");
-            g.radii = Vec3::Constant(radius);
-            if (g.shape == "hollow_sphere") {
-                g.inner_radius = r.number_required("inner_radius", 0, kMaxLength, true, "m");
-                if (!(g.inner_radius < radius))
-                    r.fail("inner_radius", "must be smaller than \"radius\"");
-            }
-        } else {
-            g.radii = r.vec3("radii", g.radii, g.shape == "ellipsoid", "m");
-            for (int i = 0; i < 3; ++i)
-                if (!(g.radii[i] > 0))
-                    throw SceneError(r.child("radii") + "/" + std::to_string(i), "must be > 0 [m]");
-        }
-        if (g.shape == "capsule")
-            g.length = r.number_required("length", 0, kMaxLength, false, "m");
+        parse_implicit_shape(r, g);
         g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
         g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
         g.optimize = parse_optimize(r, g.optimize);
@@ -163,6 +194,8 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
     } else if (type == "convex_hull") {
         parse_convex_hull(r, g);
+    } else if (type == "hex_slice") {
+        parse_hex_slice(r, g);
     } else {
         g.kind = type == "surface_file" ? Geometry::Kind::SurfaceFile : Geometry::Kind::MeshFile;
         g.path = r.string("path", "");

@@ -39,6 +39,13 @@ SceneEstimate estimate(const scene::Scene& s) {
         e.nodes_per_cell = 10;
         e.basis = "random planes in " + std::to_string(long(blocks)) + " blocks";
         break;
+    case Kind::HexSlice:
+        if (!g.path.empty()) {
+            e.known = false; // a surface file's volume is known only after reading it
+            e.basis = "hex-sliced surface file (not estimated)";
+            return e;
+        }
+        [[fallthrough]];
     case Kind::Implicit: {
         const double pi = std::numbers::pi;
         const Vec3 r = g.radii;
@@ -51,6 +58,13 @@ SceneEstimate estimate(const scene::Scene& s) {
             volume *= 2.0; // lobes reach past the radii
         }
         const double h = std::max(g.cell_size, 1e-12);
+        if (g.kind == Kind::HexSlice) {
+            // About one cell per cube of h^3, the cut ones with ~20 nodes.
+            e.cells = 1.5 * volume / (h * h * h) + 1;
+            e.nodes_per_cell = 20;
+            e.basis = g.shape + " hex-sliced at cell size " + std::to_string(h) + " m";
+            break;
+        }
         e.cells = 2.0 * volume / (kRegularTet * h * h * h); // Mesh_3 cells run smaller than h
         e.basis = g.shape + " meshed at cell size " + std::to_string(h) + " m";
         break;

@@ -122,10 +122,12 @@ void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vect
                 inside[p] = 1;
                 break;
             }
-            // Other cells are convex (cut cells of the polyhedral methods too): inside all
-            // face planes; the field is read from the cell's affine fit.
+            // Inside all face planes (convex cells, cut cells of the polyhedral methods), or
+            // else inside by the winding number (non-convex cells: hex_slice, merged slivers);
+            // the field is read from the cell's affine fit.
+            const auto loops = m.cell_face_loops(c);
             bool in = true;
-            for (const auto& loop : m.cell_face_loops(c)) {
+            for (const auto& loop : loops) {
                 const auto pts = geometry::gather(m.rest, loop);
                 if ((X - geometry::polygon_centroid(pts)).dot(geometry::polygon_normal(pts))
                     > eps) {
@@ -133,6 +135,8 @@ void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vect
                     break;
                 }
             }
+            if (!in && cell.shape == mesh::CellShape::Polyhedron)
+                in = geometry::polyhedron_winding(m.rest, loops, X) > 0.45;
             if (!in)
                 continue;
             if (s.dg) {

@@ -27,6 +27,12 @@ Vec3 polyhedron_centroid(const std::vector<Vec3>& points,
 bool polyhedron_is_convex(const std::vector<Vec3>& points,
     const std::vector<std::vector<Index>>& loops, double tol = 1e-9);
 
+/// Winding number of the closed polyhedron about point x: the sum of the signed solid angles
+/// of its faces (fans about each loop's vertex mean; van Oosterom and Strackee 1983) over
+/// 4 pi. 1 inside, 0 outside, fractional only on the boundary; for non-convex cells too.
+double polyhedron_winding(const std::vector<Vec3>& points,
+    const std::vector<std::vector<Index>>& loops, const Vec3& x);
+
 /// Axis-aligned bounding box.
 struct Aabb {
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());

@@ -13,7 +13,7 @@ namespace polycut::scene {
 
 /// Where the mesh comes from.
 struct Geometry {
-    enum class Kind { Box, Implicit, SurfaceFile, MeshFile, RandomPlanes, ConvexHull };
+    enum class Kind { Box, Implicit, SurfaceFile, MeshFile, RandomPlanes, ConvexHull, HexSlice };
     Kind kind = Kind::Box;
     // Box and RandomPlanes
     Vec3 origin = Vec3::Zero(); ///< min corner [m]
@@ -55,6 +55,13 @@ struct Geometry {
     // ConvexHull: one convex polyhedral cell whose nodes are the hull's corners
     std::vector<Vec3> points; ///< corners (>= 4, before `scale`), empty with a shape
     double edge_length = 0.05; ///< shape "truncated_octahedron": edge length [m]
+    // HexSlice (003 sec. 10): a grid of cubes of edge cell_size [m] intersected with a closed
+    // surface, the file `path` (with scale and repair) or the implicit shape above
+    /// pieces of cut cubes below merge_fraction * cell_size^3 are merged into a neighbour
+    /// [dimensionless, in [0, 1)]
+    double merge_fraction = 0.1;
+    /// implicit surface: edge size of its triangles (CGAL Mesh_3 facet size) [m]; 0: cell_size / 3
+    double triangle_size = 0;
 };
 
 /// Isotropic Hookean material with Rayleigh damping D = alpha M + beta K.
