@@ -220,3 +220,32 @@ TEST(NodalDilatation, EditedCellsGiveTheSameModelAsAFreshBuild) {
     EXPECT_LE((MatX(Ka) - MatX(Kb)).cwiseAbs().maxCoeff(), 1e-12 * MatX(Kb).cwiseAbs().maxCoeff());
     EXPECT_LE((fa - fb).cwiseAbs().maxCoeff(), 1e-12 * fb.cwiseAbs().maxCoeff());
 }
+
+TEST(P1Energy, ClosedFormEqualsTheCellMatrixForm) {
+    // The energy guard's closed form V (mu eps:eps + lambda/2 tr(eps)^2) per tet against
+    // 1/2 u^T Ke u with the corotated local displacement u of the force kernel.
+    const mesh::Mesh m = test::distorted(false, small_grid(), 9);
+    ElasticModel model(m, material(0.45), {}, {});
+    const Mat3 Q = Eigen::AngleAxisd(0.9, Vec3(-0.2, 0.5, 0.7).normalized()).toRotationMatrix();
+    MatX3 x = perturbed(test::rest_matrix(m), 2e-3, 14);
+    for (Index i = 0; i < x.rows(); ++i)
+        x.row(i) = (Q * x.row(i).transpose()).transpose();
+    VecX f;
+    model.assemble(x, ForceMode::Corotated, nullptr, &f); // caches the cell rotations
+    double reference = 0;
+    for (Index c = 0; c < m.num_cells(); ++c) {
+        const auto& nodes = m.cells[std::size_t(c)].nodes;
+        const Mat3& R = model.cell_rotation(c);
+        Vec3 xc = Vec3::Zero(), Xc = Vec3::Zero();
+        for (Index i : nodes) {
+            xc += x.row(i).transpose() / double(nodes.size());
+            Xc += m.rest[std::size_t(i)] / double(nodes.size());
+        }
+        VecX u(3 * Index(nodes.size()));
+        for (std::size_t k = 0; k < nodes.size(); ++k)
+            u.segment<3>(3 * Index(k)) = R.transpose() * (x.row(nodes[k]).transpose() - xc)
+                - (m.rest[std::size_t(nodes[k])] - Xc);
+        reference += 0.5 * u.dot(MatX(model.cell_stiffness(c)) * u);
+    }
+    EXPECT_NEAR(model.elastic_energy(x, ForceMode::Corotated), reference, 1e-10 * reference);
+}

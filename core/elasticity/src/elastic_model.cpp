@@ -2,6 +2,7 @@
 
 #include "nodal_dilatation.hpp"
 #include "p1_batch.hpp"
+#include "p1_energy.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/elasticity/element_stiffness.hpp"
 #include "polycut/elasticity/rotation.hpp"
@@ -487,7 +488,17 @@ double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
     double energy = 0;
     VecX u, Ku; // reused: no allocation per cell (the energy guard calls this twice a step)
     std::vector<Mat3> rotations(m_nodal ? m_cells.size() : 0); // the nodal term's
+    const double mu = m_material.mu();
+    const double lambda = m_nodal ? -2.0 * mu / 3.0 : m_material.lambda(); // as assemble_cells()
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        if (const P1Cell& t = m_p1[c]; t.valid) { // closed form: no 12 x 12 product
+            Mat3 R = m_rotation[c];
+            energy += detail::p1_energy({ t.nodes, t.g, t.c0, t.volume, nullptr, nullptr, nullptr },
+                lambda, mu, x.data(), mode == ForceMode::Corotated, R);
+            if (m_nodal)
+                rotations[c] = R;
+            continue;
+        }
         const CellData& cd = m_cells[c];
         const Index n = Index(cd.nodes.size());
         Vec3 xc = Vec3::Zero();
