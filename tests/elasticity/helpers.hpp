@@ -60,4 +60,29 @@ inline MatX3 solve_linear_static(
     return x;
 }
 
+/// Box grid with interior nodes moved randomly by up to 0.25 of a cell.
+inline mesh::Mesh distorted(bool hexes, const mesh::BoxGrid& g, unsigned seed) {
+    mesh::Mesh m = hexes ? mesh::hex_grid(g) : mesh::tet_grid(g);
+    std::mt19937 rng(seed);
+    const Vec3 h = (g.hi - g.lo).cwiseQuotient(g.cells.cast<double>());
+    std::uniform_real_distribution<double> jitter(-0.25, 0.25);
+    for (int k = 1; k < g.cells.z(); ++k)
+        for (int j = 1; j < g.cells.y(); ++j)
+            for (int i = 1; i < g.cells.x(); ++i)
+                m.rest[std::size_t(mesh::grid_node(g, i, j, k))]
+                    += Vec3(jitter(rng) * h.x(), jitter(rng) * h.y(), jitter(rng) * h.z());
+    return m;
+}
+
+inline std::vector<std::uint8_t> boundary_node_mask(const mesh::BoxGrid& g) {
+    std::vector<std::uint8_t> mask(std::size_t((g.cells.array() + 1).prod()), 0);
+    for (int k = 0; k <= g.cells.z(); ++k)
+        for (int j = 0; j <= g.cells.y(); ++j)
+            for (int i = 0; i <= g.cells.x(); ++i)
+                if (i == 0 || j == 0 || k == 0 || i == g.cells.x() || j == g.cells.y()
+                    || k == g.cells.z())
+                    mask[std::size_t(mesh::grid_node(g, i, j, k))] = 1;
+    return mask;
+}
+
 } // namespace polycut::test

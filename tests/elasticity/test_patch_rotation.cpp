@@ -14,31 +14,6 @@ Material material() {
     return m;
 }
 
-/// Box grid with interior nodes moved randomly by up to 0.25 of a cell.
-mesh::Mesh distorted(bool hexes, const mesh::BoxGrid& g, unsigned seed) {
-    mesh::Mesh m = hexes ? mesh::hex_grid(g) : mesh::tet_grid(g);
-    std::mt19937 rng(seed);
-    const Vec3 h = (g.hi - g.lo).cwiseQuotient(g.cells.cast<double>());
-    std::uniform_real_distribution<double> jitter(-0.25, 0.25);
-    for (int k = 1; k < g.cells.z(); ++k)
-        for (int j = 1; j < g.cells.y(); ++j)
-            for (int i = 1; i < g.cells.x(); ++i)
-                m.rest[std::size_t(mesh::grid_node(g, i, j, k))]
-                    += Vec3(jitter(rng) * h.x(), jitter(rng) * h.y(), jitter(rng) * h.z());
-    return m;
-}
-
-std::vector<std::uint8_t> boundary_node_mask(const mesh::BoxGrid& g) {
-    std::vector<std::uint8_t> mask(std::size_t((g.cells.array() + 1).prod()), 0);
-    for (int k = 0; k <= g.cells.z(); ++k)
-        for (int j = 0; j <= g.cells.y(); ++j)
-            for (int i = 0; i <= g.cells.x(); ++i)
-                if (i == 0 || j == 0 || k == 0 || i == g.cells.x() || j == g.cells.y()
-                    || k == g.cells.z())
-                    mask[std::size_t(mesh::grid_node(g, i, j, k))] = 1;
-    return mask;
-}
-
 class Patch : public ::testing::TestWithParam<bool> { };
 } // namespace
 
@@ -48,14 +23,14 @@ TEST_P(Patch, LinearDisplacementReproducedOnDistortedMesh) {
     g.lo = Vec3(0, 0, 0);
     g.hi = Vec3(1.0, 0.8, 0.6);
     g.cells = { 4, 4, 3 };
-    const mesh::Mesh m = distorted(hexes, g, 42);
-    ElasticModel model(m, material(), {}, fix_nodes(boundary_node_mask(g)));
+    const mesh::Mesh m = test::distorted(hexes, g, 42);
+    ElasticModel model(m, material(), {}, fix_nodes(test::boundary_node_mask(g)));
     Mat3 B;
     B << 0.02, -0.01, 0.03, 0.015, -0.02, 0.01, -0.005, 0.025, 0.01;
     const Vec3 a(0.01, -0.02, 0.005);
     const MatX3 X = test::rest_matrix(m);
     MatX3 exact(X.rows(), 3), x0 = X;
-    const auto mask = boundary_node_mask(g);
+    const auto mask = test::boundary_node_mask(g);
     for (Index i = 0; i < X.rows(); ++i) {
         exact.row(i) = X.row(i) + (a + B * X.row(i).transpose()).transpose();
         if (mask[std::size_t(i)])
@@ -82,7 +57,7 @@ TEST_P(Rigid, RotationBy90DegreesGivesZeroCorotatedForce) {
     mesh::BoxGrid g;
     g.hi = Vec3(0.3, 0.2, 0.1);
     g.cells = { 3, 2, 2 };
-    const mesh::Mesh m = distorted(hexes, g, 3);
+    const mesh::Mesh m = test::distorted(hexes, g, 3);
     ElasticModel model(m, material(), {}, {});
     const MatX3 X = test::rest_matrix(m);
     const Mat3 Q = Eigen::AngleAxisd(M_PI / 2, Vec3(1, 2, 0.5).normalized()).toRotationMatrix();
@@ -136,7 +111,7 @@ TEST_P(Tangent, CorotatedStiffnessMatchesForceDerivativeAtRotatedRestState) {
     mesh::BoxGrid g;
     g.hi = Vec3(0.2, 0.2, 0.2);
     g.cells = { 2, 1, 1 };
-    const mesh::Mesh m = distorted(hexes, g, 9);
+    const mesh::Mesh m = test::distorted(hexes, g, 9);
     std::vector<std::uint8_t> node_fix(std::size_t(m.num_nodes()), 0);
     node_fix[0] = 1;
     ElasticModel model(m, material(), {}, fix_nodes(node_fix));

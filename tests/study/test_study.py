@@ -97,8 +97,10 @@ class Axes(unittest.TestCase):
         scene = {"geometry": {"type": "box", "size": [1, 1, 1], "cells": [2, 2, 2], "elements": "tet"}}
         out = axes.apply(scene, {"method": "mvc"})
         self.assertEqual(out["geometry"]["elements"], "hex")  # Q1 blocks, polyhedra where cut
-        self.assertEqual(axes.apply(scene, {"element": "mean_dilatation"})["basis"]["volumetric"],
-                         "mean_dilatation")
+        for element in ("mean_dilatation", "nodal_average"):
+            self.assertEqual(axes.apply(scene, {"element": element})["basis"]["volumetric"], element)
+        with self.assertRaises(axes.AxisError):
+            axes.apply(scene, {"element": "bbar"})
         self.assertEqual(axes.apply(scene, {"/material/density": 5})["material"]["density"], 5)
         with self.assertRaises(axes.AxisError):
             axes.apply({"geometry": {"type": "mesh_file", "path": "x"}}, {"resolution": 2})

@@ -1,6 +1,8 @@
 #include "polycut/elasticity/elastic_model.hpp"
 
+#include "nodal_dilatation.hpp"
 #include "p1_batch.hpp"
+#include "p1_energy.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/elasticity/element_stiffness.hpp"
 #include "polycut/elasticity/rotation.hpp"
@@ -84,12 +86,19 @@ ElasticModel::ElasticModel(const mesh::Mesh& mesh, const Material& material,
     : m_mesh(&mesh)
     , m_material(material)
     , m_options(options)
-    , m_fixed(std::move(fixed_dofs)) {
+    , m_fixed(std::move(fixed_dofs))
+    , m_nodal(options.volumetric == basis::VolumetricRule::NodalAverage
+              ? std::make_unique<detail::NodalDilatation>()
+              : nullptr) {
     validate(material);
     if (!m_fixed.empty() && m_fixed.size() != 3 * std::size_t(mesh.num_nodes()))
         throw InputError("fixed_dofs", "the fixed-DOF mask needs 3 entries per node");
     rebuild_topology();
 }
+
+ElasticModel::~ElasticModel() = default;
+ElasticModel::ElasticModel(ElasticModel&&) noexcept = default;
+ElasticModel& ElasticModel::operator=(ElasticModel&&) noexcept = default;
 
 Eigen::Map<const MatX> ElasticModel::cell_stiffness(Index c) const {
     const MatX& K = m_cells[std::size_t(c)].stiffness;
@@ -153,6 +162,8 @@ void ElasticModel::rebuild_mass() {
     m_reduced_mass.resize(m_num_free);
     for (Index r = 0; r < m_num_free; ++r)
         m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
+    if (m_nodal)
+        refresh_nodal();
 }
 
 void ElasticModel::rebuild_topology() {
@@ -337,7 +348,10 @@ void ElasticModel::rebuild_partition() {
 
 void ElasticModel::assemble_cells(
     const std::vector<Index>& cells, const MatX3& x, bool corotated, double* Kvals, double* fint) {
-    const double lambda = m_material.lambda(), mu = m_material.mu();
+    const double mu = m_material.mu();
+    // NodalAverage: the P1 kernel takes the deviatoric part (kappa = lambda + 2 mu / 3 moves to
+    // the nodal term), as element_stiffness() does for the other cells.
+    const double lambda = m_nodal ? -2.0 * mu / 3.0 : m_material.lambda();
     double ubuf[24], fbuf[24];
     std::vector<double> ubig, fbig;
     // P1 tets go through the batched kernel kP1Lanes at a time (p1_batch.hpp).
@@ -394,6 +408,8 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
             std::fill(Kvals, Kvals + nnz, 0.0);
         if (T == 1)
             assemble_cells(m_thread_cells[0], x, corotated, Kvals, fint);
+        if (m_nodal) // after the cells: their rotations are current
+            m_nodal->assemble(x, m_rotation, corotated, Kvals, fint);
         return;
     }
     // One list per loop index whatever the team size OpenMP grants: each list is assembled
@@ -410,6 +426,8 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix*
             assemble_cells(m_thread_cells[std::size_t(t)], x, corotated, Kvals, fint);
     }
     assemble_cells(m_shared_cells, x, corotated, Kvals, fint);
+    if (m_nodal)
+        m_nodal->assemble(x, m_rotation, corotated, Kvals, fint);
 }
 
 double ElasticModel::max_cell_stretch(const MatX3& x) const {
@@ -469,7 +487,18 @@ void ElasticModel::cell_stretch_squared(const MatX3& x, std::vector<double>& out
 double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
     double energy = 0;
     VecX u, Ku; // reused: no allocation per cell (the energy guard calls this twice a step)
+    std::vector<Mat3> rotations(m_nodal ? m_cells.size() : 0); // the nodal term's
+    const double mu = m_material.mu();
+    const double lambda = m_nodal ? -2.0 * mu / 3.0 : m_material.lambda(); // as assemble_cells()
     for (std::size_t c = 0; c < m_cells.size(); ++c) {
+        if (const P1Cell& t = m_p1[c]; t.valid) { // closed form: no 12 x 12 product
+            Mat3 R = m_rotation[c];
+            energy += detail::p1_energy({ t.nodes, t.g, t.c0, t.volume, nullptr, nullptr, nullptr },
+                lambda, mu, x.data(), mode == ForceMode::Corotated, R);
+            if (m_nodal)
+                rotations[c] = R;
+            continue;
+        }
         const CellData& cd = m_cells[c];
         const Index n = Index(cd.nodes.size());
         Vec3 xc = Vec3::Zero();
@@ -483,6 +512,8 @@ double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
                 A += (x.row(cd.nodes[std::size_t(i)]).transpose() - xc) * cd.fit.row(i);
             R = polar_rotation_warm(A, m_rotation[c]);
         }
+        if (m_nodal)
+            rotations[c] = R;
         u.resize(3 * n);
         for (Index i = 0; i < n; ++i)
             u.segment<3>(3 * i) = R.transpose() * (x.row(cd.nodes[std::size_t(i)]).transpose() - xc)
@@ -490,6 +521,8 @@ double ElasticModel::elastic_energy(const MatX3& x, ForceMode mode) const {
         Ku.noalias() = cd.stiffness.selfadjointView<Eigen::Lower>() * u;
         energy += 0.5 * u.dot(Ku);
     }
+    if (m_nodal)
+        energy += m_nodal->energy(x, rotations, mode == ForceMode::Corotated);
     return energy;
 }
 
@@ -518,6 +551,24 @@ void ElasticModel::rest_rows(MatX3& X0) const {
 void ElasticModel::add_gravity(const Vec3& g, VecX& full) const {
     for (Index i = 0; i < m_mass.size(); ++i)
         full.segment<3>(3 * i) += m_mass(i) * g;
+}
+
+} // namespace polycut::elasticity
+
+namespace polycut::elasticity {
+
+void ElasticModel::refresh_nodal() {
+    const double kappa = m_material.lambda() + 2.0 * m_material.mu() / 3.0;
+    m_nodal->rebuild(m_mesh->num_nodes(), Index(m_cells.size()),
+        [&](Index c) {
+            const CellData& cd = m_cells[std::size_t(c)];
+            return detail::NodalCellView { &cd.nodes, &cd.integration, &cd.rest_local };
+        },
+        kappa, { m_outer, m_nb_offset, m_nb_nodes, m_nb_start, m_nb_length, m_dof_map });
+}
+
+double ElasticModel::nodal_volumetric_omega2() const {
+    return m_nodal ? m_nodal->omega2_bound(m_mass) : 0.0;
 }
 
 } // namespace polycut::elasticity

@@ -62,6 +62,21 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         affected.assign(nn, 1);
         old_cell.assign(n_cells, kNone);
     }
+    // VolumetricRule::NodalAverage couples the nodes of each node's patch: neighbours are two
+    // rings apart. A node's two-ring changes when a node of its one-ring had its cells changed,
+    // so the affected set grows by one ring (nodal_dilatation.hpp).
+    const bool two_ring = m_nodal != nullptr;
+    if (two_ring && incremental) {
+        std::vector<char> grown(affected);
+        for (std::size_t c = 0; c < n_cells; ++c) {
+            const auto nodes = cell_nodes(c);
+            if (std::any_of(nodes.begin(), nodes.end(),
+                    [&](Index i) { return affected[std::size_t(i)] != 0; }))
+                for (Index i : nodes)
+                    grown[std::size_t(i)] = 1;
+        }
+        affected = std::move(grown);
+    }
     const std::vector<std::size_t> old_nb_offset = std::move(m_nb_offset);
     const std::vector<Index> old_nb_nodes = std::move(m_nb_nodes);
     const std::vector<int> old_nb_start = std::move(m_nb_start);
@@ -98,7 +113,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     // Cells of the affected nodes (CSR).
     std::vector<std::size_t> cell_offset(nn + 1, 0);
     for (Index i : m_node_list)
-        if (affected[std::size_t(i)])
+        if (two_ring || affected[std::size_t(i)])
             ++cell_offset[std::size_t(i) + 1];
     std::partial_sum(cell_offset.begin(), cell_offset.end(), cell_offset.begin());
     std::vector<Index> cells_of(cell_offset[nn]);
@@ -106,7 +121,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         std::vector<std::size_t> fill(cell_offset.begin(), cell_offset.end() - 1);
         for (std::size_t c = 0; c < n_cells; ++c)
             for (Index i : cell_nodes(c))
-                if (affected[std::size_t(i)])
+                if (two_ring || affected[std::size_t(i)])
                     cells_of[fill[std::size_t(i)]++] = Index(c);
     }
     // Free axes of each node: count, and the rank of each free axis among them.
@@ -136,12 +151,18 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
             m_nb_start.insert(m_nb_start.end(), old_nb_start.begin() + b, old_nb_start.begin() + e);
         } else {
             buffer.clear();
-            for (std::size_t k = cell_offset[j]; k < cell_offset[j + 1]; ++k)
-                for (Index i : cell_nodes(std::size_t(cells_of[k])))
-                    if (stamp[std::size_t(i)] != j) {
-                        stamp[std::size_t(i)] = j;
-                        buffer.push_back(i);
-                    }
+            const auto add_cells_of = [&](std::size_t a) {
+                for (std::size_t k = cell_offset[a]; k < cell_offset[a + 1]; ++k)
+                    for (Index i : cell_nodes(std::size_t(cells_of[k])))
+                        if (stamp[std::size_t(i)] != j) {
+                            stamp[std::size_t(i)] = j;
+                            buffer.push_back(i);
+                        }
+            };
+            add_cells_of(j);
+            if (two_ring)
+                for (std::size_t r = 0, ring = buffer.size(); r < ring; ++r)
+                    add_cells_of(std::size_t(buffer[r]));
             std::sort(buffer.begin(), buffer.end());
             int start = 0;
             for (Index i : buffer) {

@@ -76,20 +76,22 @@ MatX pointwise_stiffness(const basis::CellIntegration& ci, double lambda, double
 MatX element_stiffness(
     const basis::CellIntegration& ci, const Material& material, basis::VolumetricRule rule) {
     const bool mean_dilatation = rule == basis::VolumetricRule::MeanDilatation;
+    // NodalAverage: the cell keeps the deviatoric part only (ElasticModel adds the nodal term).
+    const bool deviatoric = rule != basis::VolumetricRule::Full;
     const double mu = material.mu();
     const double kappa = material.lambda() + 2.0 * mu / 3.0; // bulk modulus [Pa]
     // Mean dilatation: the pointwise part with the deviatoric C_dev = lambda' m m^T + mu D,
     // lambda' = lambda - kappa = -2 mu / 3 (C_dev m = 0), plus the cell-mean volumetric term.
-    const double lambda = mean_dilatation ? -2.0 * mu / 3.0 : material.lambda();
+    const double lambda = deviatoric ? -2.0 * mu / 3.0 : material.lambda();
     const Index n = ci.gradients.empty() ? 0 : Index(ci.gradients[0].rows());
     const bool positive_weights
         = std::all_of(ci.weights.begin(), ci.weights.end(), [](double w) { return w >= 0; });
     MatX K;
     if (n > 8 && positive_weights) {
         Mat6 C = elasticity_matrix(material);
-        if (mean_dilatation)
+        if (deviatoric)
             C.topLeftCorner<3, 3>().array() -= kappa;
-        K = stiffness_by_rank_update(ci, C, mean_dilatation);
+        K = stiffness_by_rank_update(ci, C, deviatoric);
     } else
         K = pointwise_stiffness(ci, lambda, mu, n);
     if (mean_dilatation && n > 0) {

@@ -19,7 +19,22 @@ double Integrator::total_energy(const State& s) const {
     // Grab springs are potential forces too (anchors fixed within a step): without their energy
     // every step toward a moved grab target read as a gain and was shortened to nothing.
     // Contact penalties likewise (obstacles and tools hold still within a step).
-    return energy(s) + gravity + spring_energy(m_springs, s.x)
+    // Kinetic + elastic: the expensive part (a polar decomposition per cell), reused when the
+    // state and the model are those of the last evaluation: a step's start is the previous
+    // step's end, so an accepted step costs one evaluation instead of two.
+    GuardCache& c = m_guard_cache;
+    const bool same = c.valid && c.cell_version == m_model->cell_version()
+        && c.topology_version == m_model->topology_version() && c.x.rows() == s.x.rows()
+        && c.v.rows() == s.v.rows() && c.x == s.x && c.v == s.v;
+    if (!same) {
+        c.energy = energy(s);
+        c.x = s.x;
+        c.v = s.v;
+        c.cell_version = m_model->cell_version();
+        c.topology_version = m_model->topology_version();
+        c.valid = true;
+    }
+    return c.energy + gravity + spring_energy(m_springs, s.x)
         + (m_penalty ? m_penalty->energy(s.x) : 0.0);
 }
 

@@ -30,7 +30,8 @@ StabilityLimit semi_implicit_limit(const elasticity::ElasticModel& model) {
         const Eigen::SelfAdjointEigenSolver<MatX> eig(A, Eigen::EigenvaluesOnly);
         omega2 = std::max(omega2, eig.eigenvalues().maxCoeff());
     }
-    out.omega_max = std::sqrt(omega2);
+    // lambda_max(K_cells + K_vol) <= the two bounds' sum (nodal volumetric term; 0 otherwise)
+    out.omega_max = std::sqrt(omega2 + model.nodal_volumetric_omega2());
     if (!(out.omega_max > 0)) {
         out.critical_dt = std::numeric_limits<double>::infinity();
         return out;

@@ -233,7 +233,8 @@ Basis parse_basis(const json& j, const std::string& ptr) {
     b.rule = r.choice("rule", b.rule, { "heuristic", "reference", "monte_carlo" });
     b.gauss_degree = int(r.integer("gauss_degree", b.gauss_degree, 1, 8));
     b.harmonic_xi = r.number("harmonic_xi", b.harmonic_xi, 0, 10, true);
-    b.volumetric = r.choice("volumetric", b.volumetric, { "full", "mean_dilatation" });
+    b.volumetric
+        = r.choice("volumetric", b.volumetric, { "full", "mean_dilatation", "nodal_average" });
     b.degree = int(r.integer("degree", b.degree, 1, 2));
     r.finish();
     return b;

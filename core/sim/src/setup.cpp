@@ -30,6 +30,7 @@ basis::BasisOptions basis_options(const scene::Scene& s) {
     b.gauss_degree = s.basis.gauss_degree;
     b.harmonic_xi = s.basis.harmonic_xi;
     b.volumetric = s.basis.volumetric == "mean_dilatation" ? basis::VolumetricRule::MeanDilatation
+        : s.basis.volumetric == "nodal_average"            ? basis::VolumetricRule::NodalAverage
                                                            : basis::VolumetricRule::Full;
     return b;
 }

@@ -110,8 +110,8 @@ def apply(scene, assignment, duration=None):
         if axis == "method":
             _method(out, v)
         elif axis == "element":
-            if v not in ("full", "mean_dilatation"):
-                raise AxisError(f"element must be full or mean_dilatation, got {v!r}")
+            if v not in ("full", "mean_dilatation", "nodal_average"):
+                raise AxisError(f"element must be full, mean_dilatation or nodal_average, got {v!r}")
             out.setdefault("basis", {})["volumetric"] = v
         elif axis == "resolution":
             _resolution(out, v)

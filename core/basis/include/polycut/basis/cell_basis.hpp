@@ -21,6 +21,11 @@ enum class VolumetricRule {
     /// pointwise one, one pressure per cell; no volumetric locking for Q1 hexes and polyhedra.
     /// P1 tets are unchanged (their strain is constant already).
     MeanDilatation,
+    /// Averaged nodal dilatation (Bonet & Burton 1998; docs/decisions/0050): cells keep their
+    /// deviatoric stiffness, the volumetric strain energy is taken per node from the
+    /// volume-weighted mean of the cell dilatations around it (one pressure per node). No
+    /// volumetric locking for P1 tets; couples nodes two rings apart (a wider pattern).
+    NodalAverage,
 };
 
 /// Options of the per-cell bases.

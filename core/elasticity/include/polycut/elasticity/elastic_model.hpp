@@ -13,9 +13,14 @@
 #include "polycut/solve/sparse.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace polycut::elasticity {
+
+namespace detail {
+class NodalDilatation;
+}
 
 /// One fixed-DOF mask entry per DOF (3#N), 1 = fixed. Helper: fix all three DOFs of the nodes
 /// with node_mask[i] != 0.
@@ -29,6 +34,9 @@ public:
     /// InputError for a bad material or mask size, MeshError for an invalid cell.
     ElasticModel(const mesh::Mesh& mesh, const Material& material,
         const basis::BasisOptions& options, std::vector<std::uint8_t> fixed_dofs);
+    ~ElasticModel() override;
+    ElasticModel(ElasticModel&&) noexcept;
+    ElasticModel& operator=(ElasticModel&&) noexcept;
 
     const mesh::Mesh& mesh() const { return *m_mesh; }
     const Material& material() const override { return m_material; }
@@ -55,6 +63,10 @@ public:
         return m_cells[std::size_t(c)].integration;
     }
     Eigen::Map<const MatX> cell_stiffness(Index c) const;
+    /// With basis::VolumetricRule::NodalAverage, an upper bound of the largest eigenvalue of
+    /// M^-1 K of the nodal volumetric term at rest [1/s^2] (cell_stiffness() then holds only the
+    /// deviatoric part, so an explicit step limit must add this); 0 for the other rules.
+    double nodal_volumetric_omega2() const;
     /// Current rotation of a cell (identity until a corotated assembly).
     const Mat3& cell_rotation(Index c) const { return m_rotation[std::size_t(c)]; }
 
@@ -140,6 +152,8 @@ private:
     };
     void compute_cell(Index c);
     void rebuild_mass();
+    /// Rebuilds the nodal volumetric term (NodalAverage) from the cells and the pattern.
+    void refresh_nodal();
     void rebuild_pattern();
     /// The pattern after a cut: `affected` (#nodes) marks the nodes whose set of cells changed
     /// (nodes appended since the last build count as affected), `old_cell` (#cells) maps each cell
@@ -193,6 +207,9 @@ private:
     std::vector<std::size_t> m_node_offset;
     std::vector<Index> m_node_list;
     std::vector<double> m_rest_extent2;
+    /// The volumetric term of VolumetricRule::NodalAverage (null otherwise); its patches widen
+    /// the pattern to two rings (nodal_dilatation.hpp).
+    std::unique_ptr<detail::NodalDilatation> m_nodal;
 };
 
 } // namespace polycut::elasticity

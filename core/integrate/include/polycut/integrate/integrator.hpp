@@ -129,6 +129,16 @@ private:
         m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
     State m_backup;
     std::vector<State> m_guard_start; ///< energy_guard: the state before each halving level
+    /// energy_guard: kinetic + elastic energy [J] of the last state the guard evaluated, with
+    /// that state and the model versions, so the next step's start (the same state unless
+    /// something moved it) costs no second evaluation.
+    struct GuardCache {
+        MatX3 x, v;
+        std::uint64_t cell_version = 0, topology_version = 0;
+        double energy = 0;
+        bool valid = false;
+    };
+    mutable GuardCache m_guard_cache;
     /// Squared stretch per cell of the current state, valid for model cell_version()
     /// m_stretch_cells (the explosion test compares each cell with itself before the step).
     std::vector<double> m_stretch2, m_stretch2_new;

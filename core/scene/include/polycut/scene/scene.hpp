@@ -78,8 +78,9 @@ struct Basis {
     std::string rule = "heuristic"; ///< mvc: "heuristic" (000 eq. 14-16) or "reference"
     int gauss_degree = 2; ///< degree of the Gauss rule on the centroid tetrahedralization
     double harmonic_xi = 0.1; ///< 001 eq. 12 kernel offset, relative to cell size
-    /// Volumetric strain of hexes and polyhedra: "full" (the cell's quadrature) or
-    /// "mean_dilatation" (B-bar: one pressure per cell, no volumetric locking near nu = 0.5)
+    /// Volumetric strain: "full" (the cell's quadrature), "mean_dilatation" (B-bar: one
+    /// pressure per cell, no volumetric locking for hexes and polyhedra near nu = 0.5) or
+    /// "nodal_average" (averaged nodal dilatation: one pressure per node, also for P1 tets)
     std::string volumetric = "full";
     /// dg: polynomial degree p of every cell's displacement field, 1 or 2
     int degree = 1;
