@@ -3,6 +3,7 @@
 // single convex cells.
 #include "polycut/sim/build_mesh.hpp"
 
+#include "octree_part.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/cut/random_planes.hpp"
 #include "polycut/mesh/builders.hpp"
@@ -100,17 +101,7 @@ void copy_repair(const meshing::RepairReport& r, MeshingSummary& out) {
 
 /// CGAL Mesh_3 of an implicit shape, with progress on stderr.
 mesh::Mesh implicit_mesh(const scene::Geometry& g, MeshingSummary& summary) {
-    meshing::ImplicitShape shape;
-    if (g.shape == "sphere")
-        shape = meshing::ImplicitShape::sphere(g.radii.x(), g.center);
-    else if (g.shape == "hollow_sphere")
-        shape = meshing::ImplicitShape::hollow_sphere(g.inner_radius, g.radii.x(), g.center);
-    else if (g.shape == "ellipsoid")
-        shape = meshing::ImplicitShape::ellipsoid(g.radii, g.center);
-    else if (g.shape == "capsule")
-        shape = meshing::ImplicitShape::capsule(g.radii.x(), g.length, Vec3::UnitZ(), g.center);
-    else
-        shape = meshing::ImplicitShape::blob(g.radii, g.center);
+    const meshing::ImplicitShape shape = implicit_shape(g);
     const meshing::MeshingOptions options = meshing_options(g);
     const auto start = std::chrono::steady_clock::now();
     mesh::Mesh m;
@@ -242,6 +233,9 @@ mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
         break;
     case scene::Geometry::Kind::ConvexHull:
         m = convex_hull_mesh(g);
+        break;
+    case scene::Geometry::Kind::Octree:
+        m = make_octree(s)->build_mesh();
         break;
     }
     if (m.num_cells() == 0)
