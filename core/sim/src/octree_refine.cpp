@@ -50,6 +50,7 @@ int Simulation::Impl::refine_octree(StepReport& report) {
         octree.reset();
         return 0;
     }
+    sync_positions(); // the stress of the state this step reached
     const auto material = elasticity_material(scene);
     const double threshold = scene.geometry.octree.refine_stress;
     const std::vector<int> leaves = octree->cell_leaves();
