@@ -240,3 +240,56 @@ TEST(OctreeScene, CantileverAdaptiveAgainstUniform) {
         EXPECT_LT(std::abs(err), 0.25) << c.name;
     }
 }
+
+TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
+    // assets/scenes/organ_octree.json: the octree organ with its 79,872-triangle embedded
+    // surface settles on the table, and a blade is drawn 7 cm across its top, 1.75 cm deep,
+    // a few sweep triangles per tick, as polycut-scalpel sends organ_octree_incision.json.
+    sim::Simulation s(
+        scene::load_scene(std::string(POLYCUT_SOURCE_DIR) + "/assets/scenes/organ_octree.json"));
+    const sim::ModelStats st = s.model_stats();
+    EXPECT_GT(st.hexes, 0);
+    EXPECT_GT(st.polyhedra, 0);
+    const sim::Surface skin = s.surface();
+    EXPECT_EQ(skin.triangles.size(), 3 * std::size_t(79872)); // the embedded surface
+    std::vector<double> step_ms;
+    for (int i = 0; i < 30; ++i) {
+        const sim::StepReport r = s.step();
+        ASSERT_FALSE(r.rolled_back) << i;
+        step_ms.push_back(r.step_ms);
+    }
+    const Vec3 blade(0, 0, -0.045);
+    const int samples = 24;
+    auto at = [&](int k) { return Vec3(-0.035 + 0.07 * k / samples, 0.0025, 0.05); };
+    int applied = 0, undone = 0;
+    for (int k = 0; k < samples; ++k) {
+        const Vec3 a = at(k), b = at(k + 1);
+        const sim::CutSummary c = s.cut({ { a, a + blade, b }, { b, a + blade, b + blade } });
+        applied += c.status == sim::CutSummary::Status::Applied;
+        const sim::StepReport r = s.step();
+        // a step that fails right after a cut undoes that cut and the tissue steps on (the
+        // server's contract); any other failure is one
+        ASSERT_TRUE(!r.rolled_back || r.cut_undone)
+            << k << ": " << (r.warnings.empty() ? "" : r.warnings.front());
+        undone += r.cut_undone;
+        step_ms.push_back(r.step_ms);
+    }
+    s.end_stroke();
+    for (int i = 0; i < 20; ++i)
+        ASSERT_FALSE(s.step().rolled_back) << i;
+    EXPECT_GT(applied - undone, samples / 2);
+    EXPECT_LE(undone, 2);
+    const sim::MeshStats ms = s.mesh_stats();
+    EXPECT_GT(ms.cut_area, 0.5 * 0.06 * 0.015); // most of the 7 x 1.75 cm swept through the organ
+    const sim::Surface cut = s.surface();
+    std::size_t lips = 0;
+    for (std::uint8_t tag : cut.tags)
+        lips += tag == 2;
+    EXPECT_GT(lips, 0u);
+    std::sort(step_ms.begin(), step_ms.end());
+    std::printf("organ_octree: %ld DOFs (%ld hexes, %ld polyhedra), %d of %d sweeps applied, %d "
+                "undone by the next step, cut area %.2f cm^2, %zu lip triangles, step median %.1f "
+                "ms, max %.1f ms\n",
+        long(st.dofs), long(st.hexes), long(st.polyhedra), applied, samples, undone,
+        ms.cut_area * 1e4, lips, step_ms[step_ms.size() / 2], step_ms.back());
+}

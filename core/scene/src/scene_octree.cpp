@@ -45,7 +45,6 @@ void parse_octree(ObjectReader& r, Geometry& g) {
                 + " m needs " + std::to_string(int(std::ceil(std::log2(g.cell_size / finest))))
                 + " levels below cell_size)");
     o.refine_stress = r.number("refine_stress", 0, 0, 1e12, false, "Pa");
-    o.refine_levels = int(r.integer("refine_levels", o.refine_levels, 1, kMaxDepth));
 }
 
 } // namespace polycut::scene::detail

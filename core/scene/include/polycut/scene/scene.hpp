@@ -70,9 +70,8 @@ struct Geometry {
         std::vector<OctreeRegion> regions; ///< boxes refined to their cell_size
         int max_depth = 6; ///< levels below the base cells (regions, surface, refinement)
         /// Stress-based refinement (001 sec. 8): after a step, cells whose largest absolute
-        /// principal stress exceeds this [Pa] are split 1-to-8; 0: never
+        /// principal stress exceeds this [Pa] are split 1-to-8, down to max_depth; 0: never
         double refine_stress = 0;
-        int refine_levels = 1; ///< most levels refinement adds below a cell's initial level
     } octree;
 };
 
