@@ -86,6 +86,7 @@ TEST(OctreeMesh, SphereIsFineAtItsSurfaceOnly) {
     meshing::OctreeOptions o = unit_cube(0.25);
     o.hi = Vec3::Constant(2.0);
     o.surface_cell_size = 0.0625;
+    o.keep = meshing::OctreeOptions::Keep::Cover;
     const Vec3 centre = Vec3::Constant(1.0);
     const double r = 0.85;
     meshing::Octree tree(o, [&](const Vec3& p) { return (p - centre).norm() - r; });

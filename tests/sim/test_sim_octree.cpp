@@ -293,3 +293,38 @@ TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
         long(st.dofs), long(st.hexes), long(st.polyhedra), applied, samples, undone,
         ms.cut_area * 1e4, lips, step_ms[step_ms.size() / 2], step_ms.back());
 }
+
+TEST(OctreeScene, SurfaceFileObjectIsCoveredByTheCells) {
+    // The object as a surface file (liver_blob.off, its exact signed distance through an AABB
+    // tree). keep "cover": the kept cells cover it, so their volume exceeds the enclosed
+    // 134 cm^3, by less than a shell of one surface cell's diagonal; keep "centre" (default):
+    // the cells whose centre is inside, within a few percent of it.
+    const std::string text = R"({"name": "octree_file",
+      "geometry": {"type": "octree", "path": ")"
+        + std::string(POLYCUT_SOURCE_DIR) + R"(/assets/meshes/liver_blob.off",
+                   "cell_size": 0.02, "surface_cell_size": 0.005, "keep": "cover"},
+      "method": "mvc",
+      "material": {"youngs_modulus": 1e4, "poisson_ratio": 0.45, "density": 1000},
+      "integrator": {"type": "implicit_euler", "dt": 0.0166667},
+      "solver": {"type": "cholmod"},
+      "fixed": [{"box": {"min": [-0.1, -0.1, -0.1], "max": [0.1, 0.1, -0.015]}}]})";
+    {
+        std::string centre = text;
+        centre.replace(centre.find(", \"keep\": \"cover\""), 17, "");
+        sim::Simulation c(scene::parse_scene(centre));
+        const double v = c.mesh_stats().rest_volume;
+        std::printf("octree of liver_blob.off, keep centre: %.1f cm^3\n", v * 1e6);
+        EXPECT_NEAR(v, 134e-6, 0.1 * 134e-6);
+    }
+    sim::Simulation s(scene::parse_scene(text));
+    const sim::MeshStats ms = s.mesh_stats();
+    EXPECT_TRUE(ms.surface_closed);
+    EXPECT_EQ(ms.components, 1);
+    EXPECT_GT(s.model_stats().polyhedra, 0);
+    const double enclosed = 134e-6, area = 110e-4; // [m^3], ~[m^2] of the blob
+    EXPECT_GT(ms.rest_volume, enclosed);
+    EXPECT_LT(ms.rest_volume, enclosed + area * 0.005 * std::sqrt(3.0));
+    EXPECT_FALSE(s.step().rolled_back);
+    std::printf("octree of liver_blob.off: %ld cells, %.1f cm^3 (enclosed 134)\n",
+        long(s.cell_count()), ms.rest_volume * 1e6);
+}

@@ -93,7 +93,8 @@ bool Octree::may_overlap(const Node& n) const {
         return true;
     const Vec3 lo = position(n.lo);
     const Vec3 size = m_unit * double(n.size);
-    return m_value(lo + 0.5 * size) < 0.5 * size.norm();
+    const double value = m_value(lo + 0.5 * size);
+    return m_options.keep == OctreeOptions::Keep::Cover ? value < 0.5 * size.norm() : value < 0;
 }
 
 int Octree::target_level(const Node& n) const {

@@ -17,6 +17,7 @@ void parse_octree(ObjectReader& r, Geometry& g) {
     if (o.object == "box" && r.has("surface_cell_size"))
         r.fail("surface_cell_size", "needs an object with a surface (\"shape\" or \"path\")");
     o.max_depth = int(r.integer("max_depth", o.max_depth, 0, kMaxDepth));
+    o.keep = r.choice("keep", o.keep, { "centre", "cover" });
     if (r.has("regions")) {
         const json& a = r.get("regions");
         if (!a.is_array())

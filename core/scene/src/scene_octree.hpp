@@ -6,7 +6,7 @@
 
 namespace polycut::scene::detail {
 
-/// Reads `surface_cell_size`, `regions`, `max_depth`, and `refine_stress` of
+/// Reads `surface_cell_size`, `regions`, `max_depth`, `keep`, and `refine_stress` of
 /// the geometry object `r` into g.octree.
 void parse_octree(ObjectReader& r, Geometry& g);
 

@@ -41,6 +41,8 @@ std::unique_ptr<meshing::Octree> make_octree(const scene::Scene& s) {
     o.cell_size = g.cell_size;
     o.surface_cell_size = g.octree.surface_cell_size;
     o.max_depth = g.octree.max_depth;
+    o.keep = g.octree.keep == "cover" ? meshing::OctreeOptions::Keep::Cover
+                                      : meshing::OctreeOptions::Keep::Centre;
     for (const auto& r : g.octree.regions)
         o.regions.push_back({ r.lo, r.hi, r.cell_size });
     meshing::SignedValue value;

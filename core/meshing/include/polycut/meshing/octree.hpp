@@ -40,6 +40,12 @@ struct OctreeOptions {
     std::vector<OctreeRegion> regions; ///< boxes refined further
     /// Most levels below the base cells (each halves the edge); at most kMaxDepth.
     int max_depth = 6;
+    /// Which leaves the surface crosses are kept: those that may overlap the object (`cover`:
+    /// value(centre) < half-diagonal; the cells contain the whole object, their volume exceeds
+    /// it by up to a shell of one cell) or those whose centre is inside (`centre`; about the
+    /// object's volume, the surface up to a half-diagonal outside the cells).
+    enum class Keep { Cover, Centre };
+    Keep keep = Keep::Centre;
 };
 
 /// Signed value of the object at a point [m]: negative inside, and |value| never more than the

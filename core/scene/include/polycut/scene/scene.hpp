@@ -69,6 +69,9 @@ struct Geometry {
         double surface_cell_size = 0; ///< largest cell the surface crosses [m]; 0: cell_size
         std::vector<OctreeRegion> regions; ///< boxes refined to their cell_size
         int max_depth = 6; ///< levels below the base cells (regions, surface, refinement)
+        /// cells the surface crosses kept: "centre" (centre inside) or "cover" (all that may
+        /// overlap the object)
+        std::string keep = "centre";
         /// Stress-based refinement (001 sec. 8): after a step, cells whose largest absolute
         /// principal stress exceeds this [Pa] are split 1-to-8, down to max_depth; 0: never
         double refine_stress = 0;
