@@ -101,6 +101,10 @@ cp "$work/commands.jsonl" "$OUT/commands.jsonl"
 echo "polycut demo: re-rendering the session offline from its command log ($OUT/demo_replay.mp4)" >&2
 "$RECORD" --offline assets/scenes/default.json --commands "$OUT/commands.jsonl" \
   --scene-dir assets/scenes --every 2 --mp4 "$OUT/demo_replay.mp4" >"$work/replay.json" || status=1
+# The octree organ with its detailed embedded surface cut live, rendered offline (issue 15).
+echo "polycut demo: the octree organ cut live ($OUT/organ_octree_cut.mp4)" >&2
+POLYCUT_BIN="$BIN" POLYCUT_OUT="$OUT" scripts/record_organ_octree.sh >"$work/organ.json" \
+  || status=1
 frames=$(sed -n 's/.*"frames":\([0-9]*\).*/\1/p' "$work/record.json" 2>/dev/null || true)
 echo "" >&2
 # A live recorder at nice 10 can be starved by other sessions' load (docs/recording.md); the

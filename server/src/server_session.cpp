@@ -28,7 +28,8 @@ using detail::to_vec;
 std::optional<RpcError> check_inline_paths(const scene::Scene& s) {
     using Kind = scene::Geometry::Kind;
     if (s.geometry.kind != Kind::SurfaceFile && s.geometry.kind != Kind::MeshFile
-        && !(s.geometry.kind == Kind::HexSlice && !s.geometry.path.empty())) {
+        && !((s.geometry.kind == Kind::HexSlice || s.geometry.kind == Kind::Octree)
+            && !s.geometry.path.empty())) {
         return std::nullopt;
     }
     const std::filesystem::path p(s.geometry.path);

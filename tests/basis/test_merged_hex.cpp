@@ -3,6 +3,7 @@
 // builder's invariants, partition of unity and linear precision, six rigid modes, the patch test
 // on the assembled mesh, and the seed 002 sec. 3.3 cantilever (analytic tip deflection
 // 8.64e-3 m) against the same grid of plain hexes.
+#include "global_assembly.hpp"
 #include "polycut/basis/cell_basis.hpp"
 #include "polycut/basis/harmonic.hpp"
 #include "polycut/common/error.hpp"
@@ -12,7 +13,6 @@
 #include "polyhedral_cells.hpp"
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
 namespace polycut::basis {
@@ -25,59 +25,6 @@ BasisOptions harmonic_options(int degree) {
     o.rule = PolyRule::Reference;
     o.gauss_degree = degree;
     return o;
-}
-
-/// Global stiffness (3N x 3N) of the mesh with Ke = sum_q w_q B^T C B per cell.
-Eigen::SparseMatrix<double> assemble(
-    const mesh::Mesh& m, const BasisOptions& options, const Eigen::Matrix<double, 6, 6>& C) {
-    std::vector<Eigen::Triplet<double>> t;
-    for (Index c = 0; c < m.num_cells(); ++c) {
-        const MatX K = stiffness(integrate_cell(m, c, options), C);
-        const auto& nodes = m.cells[std::size_t(c)].nodes;
-        for (std::size_t a = 0; a < nodes.size(); ++a)
-            for (std::size_t b = 0; b < nodes.size(); ++b)
-                for (int i = 0; i < 3; ++i)
-                    for (int j = 0; j < 3; ++j)
-                        t.emplace_back(3 * nodes[a] + i, 3 * nodes[b] + j,
-                            K(3 * Index(a) + i, 3 * Index(b) + j));
-    }
-    Eigen::SparseMatrix<double> K(3 * m.num_nodes(), 3 * m.num_nodes());
-    K.setFromTriplets(t.begin(), t.end());
-    return K;
-}
-
-/// Solves K u = f with the dofs in `fixed` prescribed to u_fixed.
-VecX solve_with_fixed(
-    const Eigen::SparseMatrix<double>& K, const VecX& f, const std::vector<bool>& fixed, VecX u) {
-    const Index n = Index(K.rows());
-    std::vector<Index> free_of(std::size_t(n), kNone);
-    Index nf = 0;
-    for (Index i = 0; i < n; ++i)
-        if (!fixed[std::size_t(i)])
-            free_of[std::size_t(i)] = nf++;
-    std::vector<Eigen::Triplet<double>> t;
-    VecX rhs = VecX::Zero(nf);
-    for (int k = 0; k < K.outerSize(); ++k)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(K, k); it; ++it) {
-            const Index r = free_of[std::size_t(it.row())], c = free_of[std::size_t(it.col())];
-            if (r == kNone)
-                continue;
-            if (c == kNone)
-                rhs[r] -= it.value() * u[Index(it.col())];
-            else
-                t.emplace_back(r, c, it.value());
-        }
-    for (Index i = 0; i < n; ++i)
-        if (free_of[std::size_t(i)] != kNone)
-            rhs[free_of[std::size_t(i)]] += f[i];
-    Eigen::SparseMatrix<double> Kf(nf, nf);
-    Kf.setFromTriplets(t.begin(), t.end());
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kf);
-    const VecX x = ldlt.solve(rhs);
-    for (Index i = 0; i < n; ++i)
-        if (free_of[std::size_t(i)] != kNone)
-            u[i] = x[free_of[std::size_t(i)]];
-    return u;
 }
 
 mesh::BoxGrid grid(Vec3 hi, Eigen::Vector3i cells) {

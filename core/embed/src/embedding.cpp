@@ -60,18 +60,25 @@ Embedding embed_surface(const mesh::Mesh& mesh, std::vector<Vec3> positions,
     const std::vector<std::array<Index, 3>>& triangles, basis::PolyBasis poly) {
     if (positions.empty() || triangles.empty())
         throw InputError("embedded", "the surface has no triangles");
+    std::vector<std::uint32_t> ids;
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+        for (const Index v : triangles[t]) {
+            if (v < 0 || std::size_t(v) >= positions.size())
+                throw InputError("embedded",
+                    "triangle " + std::to_string(t) + " names vertex " + std::to_string(v) + " of "
+                        + std::to_string(positions.size()));
+            ids.push_back(std::uint32_t(v));
+        }
+    Embedding e = embed_points(mesh, std::move(positions), poly);
+    e.triangles = std::move(ids);
+    return e;
+}
+
+Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions, basis::PolyBasis poly) {
     if (mesh.num_cells() == 0)
         throw InputError("embedded", "the simulation mesh has no cells");
     Embedding e;
     e.rest = std::move(positions);
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-        for (const Index v : triangles[t]) {
-            if (v < 0 || std::size_t(v) >= e.rest.size())
-                throw InputError("embedded",
-                    "triangle " + std::to_string(t) + " names vertex " + std::to_string(v) + " of "
-                        + std::to_string(e.rest.size()));
-            e.triangles.push_back(std::uint32_t(v));
-        }
     const detail::CellGrid grid(mesh);
     std::map<Index, PolyCell> poly_cells;
     std::vector<Index> candidates;

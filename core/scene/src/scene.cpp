@@ -4,6 +4,7 @@
 
 #include "json_reader.hpp"
 #include "scene_contact.hpp"
+#include "scene_octree.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -90,10 +91,10 @@ void parse_surface_repair(ObjectReader& r, Geometry& g) {
     }
 }
 
-/// The implicit shape fields (geometry "implicit", and hex_slice's "surface" object).
+/// The implicit shape fields (geometry "implicit" and "octree", and hex_slice's "surface"
+/// object).
 void parse_implicit_shape(ObjectReader& r, Geometry& g) {
-    g.shape
-        = r.choice("shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
+    g.shape = r.choice("shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
     g.center = r.vec3("center", g.center, false, "m");
     if (g.shape == "sphere" || g.shape == "capsule" || g.shape == "hollow_sphere") {
         const double radius = r.number_required("radius", 0, kMaxLength, true, "m");
@@ -143,7 +144,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
     Geometry g;
     const std::string type = r.choice("type", "",
         { "box", "implicit", "surface_file", "mesh_file", "random_planes", "convex_hull",
-            "hex_slice" });
+            "hex_slice", "octree" });
     if (type == "box" || type == "random_planes") {
         g.kind = type == "box" ? Geometry::Kind::Box : Geometry::Kind::RandomPlanes;
         if (type == "box" && r.has("corners")) {
@@ -192,6 +193,28 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         g.optimize = parse_optimize(r, g.optimize);
         g.node_order = r.choice("node_order", g.node_order, { "rcm", "mesher" });
         g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
+    } else if (type == "octree") {
+        g.kind = Geometry::Kind::Octree;
+        if (r.has("shape") && r.has("path"))
+            r.fail(
+                "path", "give either an implicit \"shape\" or a surface file \"path\", not both");
+        if (r.has("shape")) {
+            g.octree.object = "implicit";
+            parse_implicit_shape(r, g);
+        } else if (r.has("path")) {
+            g.octree.object = "surface_file";
+            g.path = r.string("path", "");
+            g.scale = r.number("scale", 1.0, 0, kMaxLength, true);
+        } else {
+            g.origin = r.vec3("origin", g.origin, false, "m");
+            g.size = r.vec3("size", g.size, true, "m");
+            for (int i = 0; i < 3; ++i)
+                if (!(g.size[i] > 0) || g.size[i] > kMaxLength)
+                    throw SceneError(
+                        r.child("size") + "/" + std::to_string(i), "must be in (0, 1000] [m]");
+        }
+        g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
+        detail::parse_octree(r, g);
     } else if (type == "convex_hull") {
         parse_convex_hull(r, g);
     } else if (type == "hex_slice") {

@@ -3,6 +3,7 @@
 // single convex cells.
 #include "polycut/sim/build_mesh.hpp"
 
+#include "octree_part.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/cut/random_planes.hpp"
 #include "polycut/geometry/polyhedron.hpp"
@@ -98,22 +99,6 @@ void copy_repair(const meshing::RepairReport& r, MeshingSummary& out) {
     out.volume_out = r.volume_out;
     out.volume_change = r.volume_change;
     out.repair_ms = r.time_ms;
-}
-
-/// The implicit shape a geometry names.
-meshing::ImplicitShape implicit_shape(const scene::Geometry& g) {
-    meshing::ImplicitShape shape;
-    if (g.shape == "sphere")
-        shape = meshing::ImplicitShape::sphere(g.radii.x(), g.center);
-    else if (g.shape == "hollow_sphere")
-        shape = meshing::ImplicitShape::hollow_sphere(g.inner_radius, g.radii.x(), g.center);
-    else if (g.shape == "ellipsoid")
-        shape = meshing::ImplicitShape::ellipsoid(g.radii, g.center);
-    else if (g.shape == "capsule")
-        shape = meshing::ImplicitShape::capsule(g.radii.x(), g.length, Vec3::UnitZ(), g.center);
-    else
-        shape = meshing::ImplicitShape::blob(g.radii, g.center);
-    return shape;
 }
 
 /// CGAL Mesh_3 of an implicit shape, with progress on stderr.
@@ -315,6 +300,9 @@ mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
     case scene::Geometry::Kind::HexSlice:
         m = hex_slice_mesh(s, meshed);
         mesh::reorder_for_locality(m);
+        break;
+    case scene::Geometry::Kind::Octree:
+        m = make_octree(s)->build_mesh();
         break;
     }
     if (m.num_cells() == 0)

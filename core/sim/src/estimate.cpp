@@ -84,6 +84,20 @@ SceneEstimate estimate(const scene::Scene& s) {
         e.basis = "mesh file of " + std::to_string(size) + " bytes";
         break;
     }
+    case Kind::Octree: {
+        // base cells over the object's box, plus a skin of surface cells (area / size^2, twice
+        // for the 2:1 transition layers); regions are not counted
+        const Vec3 box = g.octree.object == "box" ? g.size : Vec3(2.0 * g.radii);
+        const double c = std::max(g.cell_size, 1e-12);
+        const double sc = g.octree.surface_cell_size > 0 ? g.octree.surface_cell_size : c;
+        const double area = 2.0 * (box.x() * box.y() + box.y() * box.z() + box.z() * box.x());
+        e.cells
+            = box.prod() / (c * c * c) + (g.octree.object == "box" ? 0.0 : 2.0 * area / (sc * sc));
+        e.nodes_per_cell = 12;
+        e.known = g.octree.object != "surface_file";
+        e.basis = "octree of " + std::to_string(c) + " m cells";
+        break;
+    }
     case Kind::ConvexHull:
         e.cells = 1;
         e.nodes_per_cell = std::max<double>(double(g.points.size()), 24.0);

@@ -21,6 +21,9 @@ struct Samples;
 namespace polycut::embed {
 struct Embedding; // embedded.cpp
 }
+namespace polycut::meshing {
+class Octree; // octree_refine.cpp and simulation.cpp see it whole
+}
 
 namespace polycut::sim {
 
@@ -163,6 +166,19 @@ struct Simulation::Impl {
     void prepare_contact(double dt);
     /// After a step: the reactions of the new state.
     void measure_contact();
+
+    // Octree geometry with stress-based refinement (octree_refine.cpp, 001 sec. 8).
+    std::unique_ptr<meshing::Octree> octree; ///< the tree whose leaves are `mesh`'s cells
+    std::uint64_t octree_version = 0; ///< topology_version of the mesh the tree built
+    /// build(): the scene's octree when its geometry refines (octree.refine_stress > 0).
+    void build_octree();
+    /// After a step: splits the cells over the stress threshold 1-to-8, builds the mesh again
+    /// and carries the state over; returns how many cells it split (0: nothing changed) and
+    /// puts that and the energies around the transfer in `report`. Stops for good once a cut
+    /// changed the mesh.
+    int refine_octree(StepReport& report);
+    /// Simulation::energy() of the current state.
+    Energy energy() const;
 
     void build();
     void rebuild_physics();

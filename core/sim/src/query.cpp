@@ -1,4 +1,5 @@
 // sim::Simulation queries: surface, probes, mesh figures, state hash, VTU output.
+#include "cell_stress.hpp"
 #include "impl.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/cut/completeness.hpp"
@@ -168,13 +169,8 @@ void Simulation::write_vtu(const std::string& path) const {
     mesh::Field cell_cut { "cut", MatX::Zero(m.num_cells(), 1) };
     for (Index c = 0; c < m.num_cells(); ++c) {
         const auto& cell = m.cells[std::size_t(c)];
-        const auto fit = geometry::fit_affine(
-            geometry::gather(m.rest, cell.nodes), geometry::gather(s.positions, cell.nodes));
-        const Mat3 R
-            = s.scene.integrator.corotated ? geometry::polar_rotation(fit.A) : Mat3::Identity();
-        const Mat3 F = R.transpose() * fit.A;
-        const Mat3 eps = 0.5 * (F + F.transpose()) - Mat3::Identity();
-        const Mat3 sigma = mat.lambda() * eps.trace() * Mat3::Identity() + 2.0 * mat.mu() * eps;
+        Mat3 R;
+        const Mat3 sigma = cell_stress(mat, s.scene.integrator.corotated, m, s.positions, c, &R);
         const Mat3 dev = sigma - sigma.trace() / 3.0 * Mat3::Identity();
         vm.values(c, 0) = std::sqrt(1.5 * dev.squaredNorm());
         const Mat3 world = R * sigma * R.transpose();

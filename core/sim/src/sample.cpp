@@ -155,24 +155,28 @@ void Simulation::sample_displacements(const std::vector<Vec3>& points, std::vect
 }
 
 Energy Simulation::energy() const {
-    const Impl& s = *m_impl;
+    return m_impl->energy();
+}
+
+Energy Simulation::Impl::energy() const {
+    const Impl& s = *this;
     Energy e;
-    const elasticity::Model& model
+    const elasticity::Model& stepped
         = s.dg ? static_cast<const elasticity::Model&>(*s.dg->model) : *s.model;
-    const VecX& m = model.row_mass();
+    const VecX& m = stepped.row_mass();
     const Vec3 g = s.scene.loads.gravity;
     for (Index i = 0; i < Index(s.state.x.rows()) && i < Index(m.size()); ++i)
         e.kinetic += 0.5 * m(i) * s.state.v.row(i).squaredNorm();
     // -G . (x - X0), G the model's gravity load (for DG it acts on each cell's mean only).
-    VecX load = VecX::Zero(3 * model.num_rows());
-    model.add_gravity(g, load);
+    VecX load = VecX::Zero(3 * stepped.num_rows());
+    stepped.add_gravity(g, load);
     MatX3 X0;
-    model.rest_rows(X0);
+    stepped.rest_rows(X0);
     if (X0.rows() == s.state.x.rows()) {
         const MatX3 u = s.state.x - X0;
         e.gravity = -load.dot(flat(u));
     }
-    e.elastic = model.elastic_energy(s.state.x,
+    e.elastic = stepped.elastic_energy(s.state.x,
         s.scene.integrator.corotated ? elasticity::ForceMode::Corotated
                                      : elasticity::ForceMode::Linear);
     return e;

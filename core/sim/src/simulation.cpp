@@ -6,6 +6,7 @@
 #include "polycut/embed/embedding.hpp"
 #include "polycut/geometry/polygon.hpp"
 #include "polycut/geometry/polyhedron.hpp"
+#include "polycut/meshing/octree.hpp"
 #include "polycut/sim/build_mesh.hpp"
 #include "setup.hpp"
 
@@ -81,6 +82,7 @@ void Simulation::Impl::build() {
     sync_positions();
     refresh_topology();
     build_embedded();
+    build_octree();
 }
 
 void Simulation::reset() {
@@ -237,6 +239,8 @@ StepReport Simulation::step() {
                     s.refresh_topology();
                     r.topology_changed = true;
                 }
+            if (s.octree && !ir.rolled_back && s.refine_octree(r) > 0)
+                r.topology_changed = true; // 001 sec. 8: stressed cells split 1-to-8
         }
         s.sync_positions();
         s.measure_contact();

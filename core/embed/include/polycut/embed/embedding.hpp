@@ -37,6 +37,11 @@ struct Embedding {
 Embedding embed_surface(const mesh::Mesh& mesh, std::vector<Vec3> positions,
     const std::vector<std::array<Index, 3>>& triangles, basis::PolyBasis poly);
 
+/// The weights of points (rest positions [m]) alone, as embed_surface() gives its vertices
+/// (no triangles): e.g. the nodes of a refined mesh in the mesh before. Throws InputError for a
+/// mesh without cells.
+Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions, basis::PolyBasis poly);
+
 /// World positions of the embedded vertices from the node positions (#N) [m], as float32
 /// (#V x 3), the layout of the surface stream.
 void deform(const Embedding& e, const std::vector<Vec3>& node_positions, std::vector<float>& out);

@@ -13,7 +13,16 @@ namespace polycut::scene {
 
 /// Where the mesh comes from.
 struct Geometry {
-    enum class Kind { Box, Implicit, SurfaceFile, MeshFile, RandomPlanes, ConvexHull, HexSlice };
+    enum class Kind {
+        Box,
+        Implicit,
+        SurfaceFile,
+        MeshFile,
+        RandomPlanes,
+        ConvexHull,
+        HexSlice,
+        Octree
+    };
     Kind kind = Kind::Box;
     // Box and RandomPlanes
     Vec3 origin = Vec3::Zero(); ///< min corner [m]
@@ -62,6 +71,27 @@ struct Geometry {
     double merge_fraction = 0.1;
     /// implicit surface: edge size of its triangles (CGAL Mesh_3 facet size) [m]; 0: cell_size / 3
     double triangle_size = 0;
+    /// Octree (issue 15 item 3): an adaptive octree of hex cells (meshing::Octree) embedding the
+    /// object, which is the implicit `shape` (center, radii...), the surface file `path` (scale)
+    /// or, with neither, the box [origin, origin + size]. `cell_size` is the base (coarsest)
+    /// cell edge [m].
+    struct OctreeRegion {
+        Vec3 lo = Vec3::Zero(); ///< min corner [m]
+        Vec3 hi = Vec3::Zero(); ///< max corner [m]
+        double cell_size = 0; ///< largest cell edge inside [m]
+    };
+    struct OctreeSettings {
+        std::string object = "box"; ///< "box", "implicit" or "surface_file" (from the keys)
+        double surface_cell_size = 0; ///< largest cell the surface crosses [m]; 0: cell_size
+        std::vector<OctreeRegion> regions; ///< boxes refined to their cell_size
+        int max_depth = 6; ///< levels below the base cells (regions, surface, refinement)
+        /// cells the surface crosses kept: "centre" (centre inside) or "cover" (all that may
+        /// overlap the object)
+        std::string keep = "centre";
+        /// Stress-based refinement (001 sec. 8): after a step, cells whose largest absolute
+        /// principal stress exceeds this [Pa] are split 1-to-8, down to max_depth; 0: never
+        double refine_stress = 0;
+    } octree;
 };
 
 /// Isotropic Hookean material with Rayleigh damping D = alpha M + beta K.

@@ -31,6 +31,11 @@ struct StepReport {
     /// The step failed right after a cut: the cuts applied since the previous step were undone
     /// with it (mesh, state and loads as before them); `warnings` says why.
     bool cut_undone = false;
+    /// Octree geometry with refine_stress: cells split 1-to-8 after this step (001 sec. 8),
+    /// and the mechanical energy (Energy::total) of the state just before and just after the
+    /// transfer to the refined mesh [J] (the "pop" a refinement causes).
+    int cells_refined = 0;
+    double refine_energy_before = 0, refine_energy_after = 0;
     std::vector<std::string> warnings;
 };
 
