@@ -139,9 +139,22 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         }
         return h;
     }
-    case 1:
-        return SceneResult { m.tick(), m.text("name"), m.u64("topology_version"),
-            m.u32("vertex_count"), m.u32("triangle_count"), m.u32("cell_count") };
+    case 1: {
+        SceneResult sr;
+        sr.tick = m.tick();
+        sr.name = m.text("name");
+        sr.topology_version = m.u64("topology_version");
+        sr.vertex_count = m.u32("vertex_count");
+        sr.triangle_count = m.u32("triangle_count");
+        sr.cell_count = m.u32("cell_count");
+        if (const json* v = m.r.optional("replaced_tick"); v != nullptr) {
+            sr.replaced_tick = read_int(*v, m.r.at("replaced_tick"), 0, kI64, kCode);
+        }
+        if (m.r.optional("build_ms") != nullptr) {
+            sr.build_ms = m.number("build_ms");
+        }
+        return sr;
+    }
     case 2:
         return RunState { m.tick(), m.boolean("running"), m.number("rate_hz") };
     case 3:
@@ -237,7 +250,11 @@ json encode_result_json(const Result& result, Message& frames) {
             } else if constexpr (std::is_same_v<T, SceneResult>) {
                 out = json { { "tick", r.tick }, { "name", r.name },
                     { "topology_version", r.topology_version }, { "vertex_count", r.vertex_count },
-                    { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count } };
+                    { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count },
+                    { "build_ms", r.build_ms } };
+                if (r.replaced_tick) {
+                    out["replaced_tick"] = *r.replaced_tick;
+                }
             } else if constexpr (std::is_same_v<T, RunState>) {
                 out = json { { "tick", r.tick }, { "running", r.running },
                     { "rate_hz", r.rate_hz } };

@@ -153,6 +153,7 @@ void Server::Impl::run() {
 
 void Server::Impl::loop_once() {
     {
+        finish_load(); // a scene built off the loop replaces the old one between ticks
         const auto now = Clock::now();
         const bool stepping = !pending_steps.empty();
         if (running && now >= next_deadline) {
@@ -292,6 +293,10 @@ std::string Server::stream_endpoint() const {
 
 void Server::run() {
     m_impl->run();
+}
+
+bool Server::scene_build_in_flight() const {
+    return m_impl->pending_load.has_value() && !m_impl->pending_load->build->done();
 }
 
 } // namespace polycut::server

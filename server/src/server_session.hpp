@@ -42,6 +42,16 @@ struct Applied {
 /// Outcome of Session::apply.
 using ApplyOutcome = protocol::Expected<Applied, protocol::RpcError>;
 
+/// A `load_scene`'s scene: read, parsed and within the memory budget, not built yet.
+struct PreparedScene {
+    scene::Scene scene;
+    std::string name; ///< the scene's name on the wire ("inline" for an inline scene)
+    bool named = false; ///< from the scene directory (errors point at /params/name)
+};
+
+/// A scene built by Session::build_scene, or why not.
+using BuiltScene = protocol::Expected<std::unique_ptr<sim::Simulation>, protocol::RpcError>;
+
 /// Scalpel sweep triangles of one stroke that could not be cut (the cut was undone, nothing
 /// changed): the server publishes each as a `rejected` event.
 struct SweepRejection {
@@ -65,6 +75,20 @@ public:
     /// Loads a scene file given on the command line (not through the wire: any path is allowed).
     /// Throws polycut::Error subclasses (SceneError, FileError, MeshError) on failure.
     void load_scene_file(const std::string& path);
+
+    /// The cheap half of `load_scene` (on the loop thread): resolves the name, parses the scene,
+    /// checks inline paths and the memory budget. Builds nothing; never throws.
+    protocol::Expected<PreparedScene, protocol::RpcError> prepare_scene(
+        const protocol::LoadSceneParams& p) const;
+    /// The expensive half: meshes and builds the simulation. Touches no session state, so it
+    /// may run on another thread while the session goes on. Never throws: a failure is -32001
+    /// pointing into the request.
+    static BuiltScene build_scene(PreparedScene scene);
+    /// Replaces the simulation by a built one and returns what `load_scene` answers; forces,
+    /// grabs, tools and strokes of the old scene are dropped. The old simulation goes to
+    /// `replaced` when given (the caller frees it where it likes), else it is destroyed here.
+    Applied install_scene(std::unique_ptr<sim::Simulation> sim, std::string name,
+        std::unique_ptr<sim::Simulation>* replaced = nullptr);
 
     /// True when the method changes the simulation (and so is recorded in the command log):
     /// load_scene, reset, apply_force, remove_force, grab, move_grab, release, cut, scalpel,
@@ -152,7 +176,9 @@ private:
     /// at `pointer`.
     protocol::Expected<sim::CutSummary, protocol::RpcError> run_cut(
         const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer);
-    void install(std::unique_ptr<sim::Simulation> sim, std::string name);
+    /// Installs `sim`; returns the simulation it replaced (null when none).
+    std::unique_ptr<sim::Simulation> install(
+        std::unique_ptr<sim::Simulation> sim, std::string name);
     void prune_expired_forces();
     /// Queues the sweep of `stroke` from its last swept sample to (a, b) and makes (a, b) the
     /// last swept sample; returns the triangles queued (0 to 2).
