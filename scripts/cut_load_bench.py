@@ -67,7 +67,10 @@ def run(exe, scene_path, cutter, shape, T):
         sub.recv_multipart()
     tris = stroke(T) if shape == "stroke" else random_tris(T)
     t0 = time.perf_counter()
-    rid = rpc.send("cut", {"triangles": tris})
+    # Bulk arrays go in a binary frame (docs/protocol.md, Messages and frames).
+    data = np.asarray(tris, dtype="<f4")
+    rid = rpc.send("cut", {"triangles": {"$frame": 1, "dtype": "float32",
+                                         "shape": list(data.shape)}}, frames=[data.tobytes()])
     reply = None
     frames = []  # (recv time, tick, step_ms, cut_deferred)
     done_t = None

@@ -72,6 +72,7 @@ json limits_json(const Limits& l) {
     return json { { "max_frame_bytes", l.max_frame_bytes },
         { "max_frames_per_message", l.max_frames_per_message },
         { "max_triangles_per_cut", l.max_triangles_per_cut },
+        { "cut_triangles_per_tick", l.cut_triangles_per_tick },
         { "max_message_rate", l.max_message_rate }, { "max_step_ticks", l.max_step_ticks },
         { "max_rate_hz", l.max_rate_hz }, { "max_json_bytes", l.max_json_bytes },
         { "json_bytes_per_tick", l.json_bytes_per_tick }, { "max_in_flight", l.max_in_flight },
@@ -97,6 +98,10 @@ Limits read_limits(const json& value, const std::string& pointer) {
     if (const json* v = m.r.optional("max_in_flight"); v != nullptr) {
         l.max_in_flight
             = static_cast<std::uint32_t>(read_uint(*v, m.r.at("max_in_flight"), 0, kU32, kCode));
+    }
+    if (const json* v = m.r.optional("cut_triangles_per_tick"); v != nullptr) {
+        l.cut_triangles_per_tick = static_cast<std::uint32_t>(
+            read_uint(*v, m.r.at("cut_triangles_per_tick"), 0, kU32, kCode));
     }
     if (const json* v = m.r.optional("max_scene_bytes"); v != nullptr) {
         l.max_scene_bytes = read_uint(*v, m.r.at("max_scene_bytes"), 0, kU64, kCode);

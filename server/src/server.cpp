@@ -36,6 +36,7 @@ SessionConfig session_config(const ServerConfig& c) {
     s.scene_dir = default_scene_dir(c);
     s.strokes = c.strokes;
     s.max_scene_bytes = c.limits.max_scene_bytes;
+    s.cut_triangles_per_tick = c.limits.cut_triangles_per_tick;
     return s;
 }
 

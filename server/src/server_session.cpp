@@ -80,7 +80,8 @@ RpcError scene_error(const std::exception& e, bool named) {
 
 Session::Session(SessionConfig config)
     : m_config(std::move(config))
-    , m_strokes(m_config.strokes) { }
+    , m_strokes(m_config.strokes)
+    , m_cut_triangles_left(m_config.cut_triangles_per_tick) { }
 
 Session::~Session() = default;
 
@@ -207,6 +208,7 @@ sim::StepReport Session::step() {
         const double cut_ms = m_cut_ms - cut_before;
         report = m_sim->step();
         report.cut_ms = cut_ms;
+        m_cut_triangles_left = m_config.cut_triangles_per_tick;
         if (report.cut_undone) {
             // The cuts of this tick made the model unsound and are gone: their strokes hear it.
             for (const StrokeCut& cut : m_cut_since_step) {

@@ -30,6 +30,8 @@ struct SessionConfig {
     StrokeLimits strokes;
     /// Largest scene a load may build, as sim::estimate() puts it [bytes]; 0 = no budget.
     std::uint64_t max_scene_bytes = 0;
+    /// Sweep triangles the cuts of one tick may apply (protocol::Limits); 0 = no limit.
+    std::uint32_t cut_triangles_per_tick = protocol::Limits {}.cut_triangles_per_tick;
 };
 
 /// What applying a command did besides its result.
@@ -234,6 +236,8 @@ private:
     std::vector<StrokeCut> m_cut_since_step;
     std::vector<SweepRejection> m_rejections;
     double m_cut_ms = 0.0; ///< cut time since take_cut_ms [ms]
+    /// Sweep triangles the cuts may still apply before the next step (cut_triangles_per_tick).
+    std::uint32_t m_cut_triangles_left = 0;
 };
 
 } // namespace polycut::server
