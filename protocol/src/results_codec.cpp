@@ -72,6 +72,7 @@ json limits_json(const Limits& l) {
     return json { { "max_frame_bytes", l.max_frame_bytes },
         { "max_frames_per_message", l.max_frames_per_message },
         { "max_triangles_per_cut", l.max_triangles_per_cut },
+        { "cut_triangles_per_tick", l.cut_triangles_per_tick },
         { "max_message_rate", l.max_message_rate }, { "max_step_ticks", l.max_step_ticks },
         { "max_rate_hz", l.max_rate_hz }, { "max_json_bytes", l.max_json_bytes },
         { "json_bytes_per_tick", l.json_bytes_per_tick }, { "max_in_flight", l.max_in_flight },
@@ -97,6 +98,10 @@ Limits read_limits(const json& value, const std::string& pointer) {
     if (const json* v = m.r.optional("max_in_flight"); v != nullptr) {
         l.max_in_flight
             = static_cast<std::uint32_t>(read_uint(*v, m.r.at("max_in_flight"), 0, kU32, kCode));
+    }
+    if (const json* v = m.r.optional("cut_triangles_per_tick"); v != nullptr) {
+        l.cut_triangles_per_tick = static_cast<std::uint32_t>(
+            read_uint(*v, m.r.at("cut_triangles_per_tick"), 0, kU32, kCode));
     }
     if (const json* v = m.r.optional("max_scene_bytes"); v != nullptr) {
         l.max_scene_bytes = read_uint(*v, m.r.at("max_scene_bytes"), 0, kU64, kCode);
@@ -139,9 +144,22 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         }
         return h;
     }
-    case 1:
-        return SceneResult { m.tick(), m.text("name"), m.u64("topology_version"),
-            m.u32("vertex_count"), m.u32("triangle_count"), m.u32("cell_count") };
+    case 1: {
+        SceneResult sr;
+        sr.tick = m.tick();
+        sr.name = m.text("name");
+        sr.topology_version = m.u64("topology_version");
+        sr.vertex_count = m.u32("vertex_count");
+        sr.triangle_count = m.u32("triangle_count");
+        sr.cell_count = m.u32("cell_count");
+        if (const json* v = m.r.optional("replaced_tick"); v != nullptr) {
+            sr.replaced_tick = read_int(*v, m.r.at("replaced_tick"), 0, kI64, kCode);
+        }
+        if (m.r.optional("build_ms") != nullptr) {
+            sr.build_ms = m.number("build_ms");
+        }
+        return sr;
+    }
     case 2:
         return RunState { m.tick(), m.boolean("running"), m.number("rate_hz") };
     case 3:
@@ -237,7 +255,11 @@ json encode_result_json(const Result& result, Message& frames) {
             } else if constexpr (std::is_same_v<T, SceneResult>) {
                 out = json { { "tick", r.tick }, { "name", r.name },
                     { "topology_version", r.topology_version }, { "vertex_count", r.vertex_count },
-                    { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count } };
+                    { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count },
+                    { "build_ms", r.build_ms } };
+                if (r.replaced_tick) {
+                    out["replaced_tick"] = *r.replaced_tick;
+                }
             } else if constexpr (std::is_same_v<T, RunState>) {
                 out = json { { "tick", r.tick }, { "running", r.running },
                     { "rate_hz", r.rate_hz } };

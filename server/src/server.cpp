@@ -36,6 +36,7 @@ SessionConfig session_config(const ServerConfig& c) {
     s.scene_dir = default_scene_dir(c);
     s.strokes = c.strokes;
     s.max_scene_bytes = c.limits.max_scene_bytes;
+    s.cut_triangles_per_tick = c.limits.cut_triangles_per_tick;
     return s;
 }
 
@@ -153,6 +154,7 @@ void Server::Impl::run() {
 
 void Server::Impl::loop_once() {
     {
+        finish_load(); // a scene built off the loop replaces the old one between ticks
         const auto now = Clock::now();
         const bool stepping = !pending_steps.empty();
         if (running && now >= next_deadline) {
@@ -292,6 +294,10 @@ std::string Server::stream_endpoint() const {
 
 void Server::run() {
     m_impl->run();
+}
+
+bool Server::scene_build_in_flight() const {
+    return m_impl->pending_load.has_value() && !m_impl->pending_load->build->done();
 }
 
 } // namespace polycut::server

@@ -62,6 +62,10 @@ public:
 
     /// Runs the loop until `shutdown` or request_stop(); writes the command log's end marker.
     void run();
+    /// True while a `load_scene` is being built on its worker thread. The build cannot be
+    /// interrupted and the destructor waits for it; a process that wants to stop at once (on a
+    /// signal) exits without destroying the server instead.
+    bool scene_build_in_flight() const;
     /// Asks run() to return at the next poll (at most ~100 ms later). Thread-safe and
     /// async-signal-safe.
     void request_stop() noexcept { m_stop.store(true, std::memory_order_relaxed); }

@@ -7,7 +7,6 @@
 
 #include <cstdio>
 #include <limits>
-#include <malloc.h>
 #include <nlohmann/json.hpp>
 
 namespace polycut::server {
@@ -230,6 +229,10 @@ void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::R
         fail(make_error(ErrorCode::StateConflict, "", "the server is shutting down"));
         return;
     }
+    if (method == Method::LoadScene) {
+        start_load(envelope, request); // answered once the scene is built (server_load.cpp)
+        return;
+    }
     if (Session::is_mutation(method)) {
         const std::int64_t tick_before = session.tick();
         ApplyOutcome outcome
@@ -253,15 +256,7 @@ void Server::Impl::dispatch(const protocol::Message& envelope, const protocol::R
             if (auto* state = std::get_if<protocol::RunState>(&done.result)) {
                 *state = run_state();
             }
-            // The new scene's first frame (tick 0, full topology) goes out now, so the stream
-            // and get_surface describe it before the first step.
-            publish_surface(sim::StepReport {}, true);
-            nlohmann::json detail
-                = { { "name", session.scene_name() }, { "reason", done.scene_reason } };
-            publish_event("scene", detail.dump(), seq);
-            // The old scene's memory went back to malloc; hand the free pages back to the system
-            // (glibc keeps them otherwise: RSS stayed at its peak after a reload).
-            ::malloc_trim(0);
+            announce_scene(done.scene_reason);
         }
         answer(std::move(done.result));
         return;

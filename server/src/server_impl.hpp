@@ -8,6 +8,7 @@
 #include "server_command_log.hpp"
 #include "server_curve.hpp"
 #include "server_reply_cache.hpp"
+#include "server_scene_build.hpp"
 #include "server_session.hpp"
 
 #include <chrono>
@@ -40,6 +41,16 @@ struct PendingStep {
     protocol::Message envelope;
     std::optional<protocol::RequestId> id; ///< nullopt: a notification, no reply
     std::uint32_t remaining = 0;
+};
+
+/// A `load_scene` whose scene is being built on a worker thread (server_load.cpp).
+struct PendingLoad {
+    protocol::Message envelope;
+    protocol::Request request; ///< recorded in the command log when the scene is installed
+    std::string name; ///< the scene's wire name
+    std::int64_t tick_requested = 0; ///< the old scene's tick when the build started
+    std::chrono::steady_clock::time_point started;
+    std::unique_ptr<SceneBuild> build;
 };
 
 struct Server::Impl {
@@ -83,6 +94,23 @@ struct Server::Impl {
     protocol::Stats stats() const;
     void finish_steps();
 
+    // --- server_load.cpp: scenes built off the loop thread
+    /// Starts building a `load_scene`'s scene on a worker thread (the old scene goes on); a
+    /// load while another is being built is refused (-32006), a bad scene answered at once.
+    void start_load(const protocol::Message& envelope, const protocol::Request& request);
+    /// Installs the built scene and answers the load, or answers its error (the old scene
+    /// stays); does nothing while the build runs. Called by the loop between ticks.
+    void finish_load();
+    /// After the scene changed (load or reset): the new scene's first frame, the `scene`
+    /// event; the replaced scene (if any) freed and the memory back to the system, off the
+    /// loop.
+    void announce_scene(
+        const std::string& reason, std::unique_ptr<sim::Simulation> replaced = nullptr);
+    /// Answers `error` to a request, or counts and publishes it for a notification.
+    void answer_error(const protocol::Message& envelope,
+        const std::optional<protocol::RequestId>& id, protocol::Method method,
+        const protocol::RpcError& error);
+
     // --- server_stream.cpp: publishing
     /// Publishes the current surface as the next stream frame and caches it for get_surface.
     void publish_surface(const sim::StepReport& report, bool force_topology);
@@ -100,6 +128,8 @@ struct Server::Impl {
     std::string stream_endpoint;
 
     Session session;
+    std::optional<PendingLoad> pending_load; ///< the load_scene being built, if any
+    SceneDisposal disposal; ///< frees replaced scenes off the loop
     std::unique_ptr<CommandLog> command_log;
     ReplyCache reply_cache;
     std::map<std::string, ClientInfo, std::less<>> clients;

@@ -225,6 +225,14 @@ int main(int argc, char** argv) {
             server.run();
         }
         g_server = nullptr;
+        if (server.scene_build_in_flight()) {
+            // The loop stopped within a tick; the scene being built (a worker thread that
+            // cannot be interrupted) is abandoned rather than waited for. The command log is
+            // complete: run() wrote its end marker.
+            std::fprintf(stderr, "[info] polycut-server: stopped (a scene build was abandoned)\n");
+            std::fflush(nullptr);
+            std::_Exit(0);
+        }
         std::fprintf(stderr, "[info] polycut-server: stopped\n");
         return 0;
     } catch (const polycut::Error& e) {

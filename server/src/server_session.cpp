@@ -60,11 +60,32 @@ void log_meshing(const std::string& scene_name, const sim::MeshingSummary& m) {
         m.quality_summary.c_str());
 }
 
+/// A scene that could not be read or built, as -32001 pointing into the request: at
+/// /params/name for a named scene (the file's own location in the reason), into
+/// /params/scene for an inline one.
+RpcError scene_error(const std::exception& e, bool named) {
+    if (const auto* scene = dynamic_cast<const SceneError*>(&e)) {
+        if (named) {
+            return make_error(ErrorCode::SceneError, "/params/name",
+                "scene file invalid at " + scene->where() + ": " + scene->problem());
+        }
+        return make_error(
+            ErrorCode::SceneError, "/params/scene" + scene->where(), scene->problem());
+    }
+    const std::string pointer = named ? "/params/name" : "/params/scene";
+    if (dynamic_cast<const Error*>(&e) != nullptr) {
+        return make_error(ErrorCode::SceneError, pointer, e.what());
+    }
+    return make_error(
+        ErrorCode::SceneError, pointer, std::string("the scene could not be built: ") + e.what());
+}
+
 } // namespace
 
 Session::Session(SessionConfig config)
     : m_config(std::move(config))
-    , m_strokes(m_config.strokes) { }
+    , m_strokes(m_config.strokes)
+    , m_cut_triangles_left(m_config.cut_triangles_per_tick) { }
 
 Session::~Session() = default;
 
@@ -100,8 +121,9 @@ void Session::load_scene_file(const std::string& path) {
     install(std::make_unique<sim::Simulation>(std::move(scene)), std::move(name));
 }
 
-void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
-    m_sim = std::move(sim);
+std::unique_ptr<sim::Simulation> Session::install(
+    std::unique_ptr<sim::Simulation> sim, std::string name) {
+    std::unique_ptr<sim::Simulation> old = std::exchange(m_sim, std::move(sim));
     m_scene_name = std::move(name);
     log_meshing(m_scene_name, m_sim->meshing_summary());
     m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
@@ -110,6 +132,8 @@ void Session::install(std::unique_ptr<sim::Simulation> sim, std::string name) {
     m_tools.clear();
     m_strokes.clear();
     m_pending_sweep.clear();
+    m_cut_since_step.clear(); // cuts of the old scene: its next step never comes
+    return old;
 }
 
 std::int64_t Session::tick() const {
@@ -188,6 +212,7 @@ sim::StepReport Session::step() {
         const double cut_ms = m_cut_ms - cut_before;
         report = m_sim->step();
         report.cut_ms = cut_ms;
+        m_cut_triangles_left = m_config.cut_triangles_per_tick;
         if (report.cut_undone) {
             // The cuts of this tick made the model unsound and are gone: their strokes hear it.
             for (const StrokeCut& cut : m_cut_since_step) {
@@ -228,9 +253,8 @@ void Session::expire(double now_s) {
     m_strokes.expire(now_s);
 }
 
-ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
-    std::unique_ptr<sim::Simulation> sim;
-    std::string name;
+protocol::Expected<PreparedScene, RpcError> Session::prepare_scene(
+    const protocol::LoadSceneParams& p) const {
     try {
         if (p.name) {
             const auto path = std::filesystem::path(m_config.scene_dir) / (*p.name + ".json");
@@ -243,33 +267,36 @@ ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
             if (auto why = sim::over_budget(scene, m_config.max_scene_bytes)) {
                 return make_error(ErrorCode::SceneError, "/params/name", *why);
             }
-            name = *p.name;
-            sim = std::make_unique<sim::Simulation>(std::move(scene));
-        } else {
-            scene::Scene scene = scene::parse_scene(*p.scene_json, m_config.scene_dir);
-            if (auto bad = check_inline_paths(scene)) {
-                return *bad;
-            }
-            if (auto why = sim::over_budget(scene, m_config.max_scene_bytes)) {
-                return make_error(ErrorCode::SceneError, "/params/scene/geometry", *why);
-            }
-            name = "inline";
-            sim = std::make_unique<sim::Simulation>(std::move(scene));
+            return PreparedScene { std::move(scene), *p.name, true };
         }
-    } catch (const SceneError& e) {
-        if (p.name) {
-            return make_error(ErrorCode::SceneError, "/params/name",
-                "scene file invalid at " + e.where() + ": " + e.problem());
+        scene::Scene scene = scene::parse_scene(*p.scene_json, m_config.scene_dir);
+        if (auto bad = check_inline_paths(scene)) {
+            return *bad;
         }
-        return make_error(ErrorCode::SceneError, "/params/scene" + e.where(), e.problem());
-    } catch (const Error& e) {
-        return make_error(
-            ErrorCode::SceneError, p.name ? "/params/name" : "/params/scene", e.what());
+        if (auto why = sim::over_budget(scene, m_config.max_scene_bytes)) {
+            return make_error(ErrorCode::SceneError, "/params/scene/geometry", *why);
+        }
+        return PreparedScene { std::move(scene), "inline", false };
     } catch (const std::exception& e) {
-        return make_error(ErrorCode::SceneError, p.name ? "/params/name" : "/params/scene",
-            std::string("the scene could not be built: ") + e.what());
+        return scene_error(e, p.name.has_value());
     }
-    install(std::move(sim), name);
+}
+
+BuiltScene Session::build_scene(PreparedScene prepared) {
+    const bool named = prepared.named;
+    try {
+        return std::make_unique<sim::Simulation>(std::move(prepared.scene));
+    } catch (const std::exception& e) {
+        return scene_error(e, named);
+    }
+}
+
+Applied Session::install_scene(std::unique_ptr<sim::Simulation> sim, std::string name,
+    std::unique_ptr<sim::Simulation>* replaced) {
+    std::unique_ptr<sim::Simulation> old = install(std::move(sim), std::move(name));
+    if (replaced != nullptr) {
+        *replaced = std::move(old);
+    }
     protocol::SceneResult r;
     r.tick = 0;
     r.name = m_scene_name;
@@ -279,6 +306,19 @@ ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
     r.triangle_count = static_cast<std::uint32_t>(surface.triangles.size() / 3);
     r.cell_count = m_cells;
     return Applied { r, true, "load" };
+}
+
+ApplyOutcome Session::load_scene(const protocol::LoadSceneParams& p) {
+    auto prepared = prepare_scene(p);
+    if (!prepared) {
+        return prepared.error();
+    }
+    std::string name = prepared->name;
+    BuiltScene built = build_scene(std::move(prepared).value());
+    if (!built) {
+        return built.error();
+    }
+    return install_scene(std::move(built).value(), std::move(name));
 }
 
 ApplyOutcome Session::reset() {

@@ -30,6 +30,8 @@ struct SessionConfig {
     StrokeLimits strokes;
     /// Largest scene a load may build, as sim::estimate() puts it [bytes]; 0 = no budget.
     std::uint64_t max_scene_bytes = 0;
+    /// Sweep triangles the cuts of one tick may apply (protocol::Limits); 0 = no limit.
+    std::uint32_t cut_triangles_per_tick = protocol::Limits {}.cut_triangles_per_tick;
 };
 
 /// What applying a command did besides its result.
@@ -41,6 +43,16 @@ struct Applied {
 
 /// Outcome of Session::apply.
 using ApplyOutcome = protocol::Expected<Applied, protocol::RpcError>;
+
+/// A `load_scene`'s scene: read, parsed and within the memory budget, not built yet.
+struct PreparedScene {
+    scene::Scene scene;
+    std::string name; ///< the scene's name on the wire ("inline" for an inline scene)
+    bool named = false; ///< from the scene directory (errors point at /params/name)
+};
+
+/// A scene built by Session::build_scene, or why not.
+using BuiltScene = protocol::Expected<std::unique_ptr<sim::Simulation>, protocol::RpcError>;
 
 /// Scalpel sweep triangles of one stroke that could not be cut (the cut was undone, nothing
 /// changed): the server publishes each as a `rejected` event.
@@ -65,6 +77,20 @@ public:
     /// Loads a scene file given on the command line (not through the wire: any path is allowed).
     /// Throws polycut::Error subclasses (SceneError, FileError, MeshError) on failure.
     void load_scene_file(const std::string& path);
+
+    /// The cheap half of `load_scene` (on the loop thread): resolves the name, parses the scene,
+    /// checks inline paths and the memory budget. Builds nothing; never throws.
+    protocol::Expected<PreparedScene, protocol::RpcError> prepare_scene(
+        const protocol::LoadSceneParams& p) const;
+    /// The expensive half: meshes and builds the simulation. Touches no session state, so it
+    /// may run on another thread while the session goes on. Never throws: a failure is -32001
+    /// pointing into the request.
+    static BuiltScene build_scene(PreparedScene scene);
+    /// Replaces the simulation by a built one and returns what `load_scene` answers; forces,
+    /// grabs, tools and strokes of the old scene are dropped. The old simulation goes to
+    /// `replaced` when given (the caller frees it where it likes), else it is destroyed here.
+    Applied install_scene(std::unique_ptr<sim::Simulation> sim, std::string name,
+        std::unique_ptr<sim::Simulation>* replaced = nullptr);
 
     /// True when the method changes the simulation (and so is recorded in the command log):
     /// load_scene, reset, apply_force, remove_force, grab, move_grab, release, cut, scalpel,
@@ -152,7 +178,9 @@ private:
     /// at `pointer`.
     protocol::Expected<sim::CutSummary, protocol::RpcError> run_cut(
         const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer);
-    void install(std::unique_ptr<sim::Simulation> sim, std::string name);
+    /// Installs `sim`; returns the simulation it replaced (null when none).
+    std::unique_ptr<sim::Simulation> install(
+        std::unique_ptr<sim::Simulation> sim, std::string name);
     void prune_expired_forces();
     /// Queues the sweep of `stroke` from its last swept sample to (a, b) and makes (a, b) the
     /// last swept sample; returns the triangles queued (0 to 2).
@@ -208,6 +236,8 @@ private:
     std::vector<StrokeCut> m_cut_since_step;
     std::vector<SweepRejection> m_rejections;
     double m_cut_ms = 0.0; ///< cut time since take_cut_ms [ms]
+    /// Sweep triangles the cuts may still apply before the next step (cut_triangles_per_tick).
+    std::uint32_t m_cut_triangles_left = 0;
 };
 
 } // namespace polycut::server

@@ -129,7 +129,16 @@ std::optional<RpcError> Session::take_rejection(std::string_view client, std::ui
 
 protocol::Expected<sim::CutSummary, RpcError> Session::run_cut(
     const std::vector<std::array<Vec3, 3>>& triangles, std::string_view pointer) {
-    const sim::CutSummary summary = m_sim->cut(triangles);
+    // The tick's triangle budget; at least one triangle per call, so every stroke advances.
+    const std::uint32_t cap = m_config.cut_triangles_per_tick > 0
+        ? std::max<std::uint32_t>(1, m_cut_triangles_left)
+        : 0;
+    const sim::CutSummary summary = m_sim->cut(triangles, static_cast<int>(cap));
+    if (summary.ok()) {
+        const auto used = static_cast<std::uint32_t>(triangles.size())
+            - static_cast<std::uint32_t>(summary.triangles_deferred);
+        m_cut_triangles_left -= std::min(m_cut_triangles_left, used);
+    }
     m_cut_ms += summary.cut_ms;
     m_cells = static_cast<std::uint32_t>(summary.cells_after);
     switch (summary.status) {

@@ -2,6 +2,7 @@
 // target on every file of the directories given. Exit status 0 when every input ran.
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -15,6 +16,9 @@ int main(int argc, char** argv) {
         for (const auto& entry : std::filesystem::directory_iterator(argv[a])) {
             if (!entry.is_regular_file()) {
                 continue;
+            }
+            if (std::getenv("POLYCUT_REPLAY_VERBOSE") != nullptr) {
+                std::fprintf(stderr, "input %s\n", entry.path().c_str()); // names a crash
             }
             std::ifstream in(entry.path(), std::ios::binary);
             const std::vector<char> bytes(

@@ -20,7 +20,7 @@ Result sample_result(Method method) {
         return h;
     }
     case 1:
-        return SceneResult { 0, "cut_halves", 1, 386, 768, 1200 };
+        return SceneResult { 0, "cut_halves", 1, 386, 768, 1200, 3120, 41.5 };
     case 2:
         return RunState { 99, method == Method::Resume, 120.0 };
     case 3:

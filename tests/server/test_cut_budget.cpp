@@ -129,6 +129,38 @@ TEST_P(CutBudget, AStrokeEndedWhileItsTrianglesWaitIsFinishedLater) {
     EXPECT_LE(drain(200), 200);
 }
 
+TEST_P(CutBudget, TheTriangleBudgetSpreadsALongCutOverTicks) {
+    // limits.cut_triangles_per_tick (default 16), no cell budget: a 40-triangle cut applies 16
+    // at once and the rest over the next ticks, and cuts what the whole cut does at once.
+    const std::vector<Triangle3> tris = long_incision(20);
+    ASSERT_EQ(protocol::Limits {}.cut_triangles_per_tick, 16u);
+    double reference = 0;
+    {
+        ServerConfig c = test_config(dir, true);
+        c.limits.cut_triangles_per_tick = 0; // no limit
+        RunningServer unlimited(c);
+        Client other(context, unlimited.control());
+        LoadSceneParams p;
+        p.scene_json = scene(GetParam(), 0);
+        other.ok<SceneResult>(p);
+        const CutResult whole = other.ok<CutResult>(CutParams { tris });
+        EXPECT_EQ(whole.deferred, 0u);
+        other.ok<RunState>(StepParams { 1 });
+        reference = cut_area(other.ok<SurfaceSnapshot>(GetSurfaceParams {}));
+    }
+    ASSERT_GT(reference, 0.0);
+    load(0);
+    EXPECT_EQ(client->ok<HelloResult>(HelloParams {}).limits.cut_triangles_per_tick, 16u);
+    const CutResult first = client->ok<CutResult>(CutParams { tris });
+    EXPECT_EQ(first.triangles, 16u);
+    EXPECT_EQ(first.deferred, 24u);
+    // The request used the coming tick's 16; that tick cuts one (at least one per call), the
+    // next 16, the last 7.
+    EXPECT_EQ(drain(200), 3);
+    const double area = cut_area(client->ok<SurfaceSnapshot>(GetSurfaceParams {}));
+    EXPECT_NEAR(area / reference, 1.0, 0.03);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cutters, CutBudget, ::testing::Values(false, true),
     [](const ::testing::TestParamInfo<bool>& param) {
         return param.param ? std::string("CellSplitting") : std::string("FaceSnapping");

@@ -5,8 +5,8 @@
    anything is built, and the server keeps answering;
 2. memory comes back after a reload: RSS after loading a large scene and then the small one
    drops back near the small scene's level (glibc kept the pages before malloc_trim);
-3. SIGTERM stops the server: idle, cleanly (exit status 0); during a long scene build, within one
-   tick by the watchdog (exit status 128 + 15), not when the build ends.
+3. SIGTERM stops the server: idle, cleanly (exit status 0); during a long scene build (built off
+   the loop, the old scene answering meanwhile) within a tick, abandoning the build (exit 0).
 
     test_process_limits.py POLYCUT_SERVER SOURCE_DIR
 """
@@ -92,32 +92,45 @@ def main():
             call(sock, "get_surface")
         big_mb = rss_mb(proc.pid)
         assert call(sock, "load_scene", scene=SMALL)["result"]["cell_count"] == 192
+        # The replaced scene is freed and the heap trimmed on a worker thread after the reply
+        # (docs/decisions/0060): wait for it (up to 10 s).
+        bound = small_mb + 0.25 * (big_mb - small_mb)
+        t_reload = time.monotonic()
         after_mb = rss_mb(proc.pid)
-        print(f"RSS small {small_mb:.0f} MB, large {big_mb:.0f} MB, after reload {after_mb:.0f} MB; "
-              f"oversize scene refused in {refused_s * 1000:.0f} ms")
+        while after_mb >= bound and time.monotonic() - t_reload < 10:
+            time.sleep(0.02)
+            after_mb = rss_mb(proc.pid)
+        freed_ms = (time.monotonic() - t_reload) * 1000
+        print(f"RSS small {small_mb:.0f} MB, large {big_mb:.0f} MB, after reload {after_mb:.0f} MB "
+              f"({freed_ms:.0f} ms after the reply); oversize scene refused in "
+              f"{refused_s * 1000:.0f} ms")
         assert big_mb > small_mb + 50, (small_mb, big_mb)
         # Back within a quarter of what the large scene added.
-        assert after_mb < small_mb + 0.25 * (big_mb - small_mb), (small_mb, big_mb, after_mb)
+        assert after_mb < bound, (small_mb, big_mb, after_mb)
         proc.send_signal(signal.SIGTERM)
         assert proc.wait(timeout=10) == 0, "an idle server stops cleanly"
     finally:
         if proc.poll() is None:
             proc.kill()
 
-    # 3: SIGTERM during a long build (a 40 x 40 x 20 box takes seconds here).
+    # 3: SIGTERM during a long build (a 40 x 40 x 20 box takes seconds here). The build runs
+    # off the loop (docs/decisions/0060): the loop stops within a tick, the build is abandoned,
+    # exit status 0; meanwhile the old scene answered.
     proc, sock = start(server_exe, "--scene-memory", "4000")
     try:
-        call(sock, "hello")
+        call(sock, "load_scene", scene=SMALL)
         call.n += 1
         sock.send(json.dumps({"jsonrpc": "2.0", "id": call.n, "method": "load_scene",
                               "params": {"scene": box([40, 40, 20])}}).encode())
         time.sleep(0.3)  # the build is under way
+        during = call(sock, "get_stats", timeout_ms=10000)["result"]
+        assert during["cell_count"] == 192, during  # the old scene answers during the build
         t0 = time.monotonic()
         proc.send_signal(signal.SIGTERM)
         status = proc.wait(timeout=30)
         stop_ms = (time.monotonic() - t0) * 1000
         print(f"SIGTERM during a scene build: exit {status} after {stop_ms:.0f} ms")
-        assert status == 128 + signal.SIGTERM or status == -signal.SIGTERM, status
+        assert status == 0, status
     finally:
         if proc.poll() is None:
             proc.kill()

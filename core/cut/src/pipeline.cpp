@@ -286,14 +286,25 @@ void CutPipeline::forget() {
 }
 
 CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3> positions,
-    Index max_changed_cells, const std::function<void()>& before_change) {
+    Index max_changed_cells, const std::function<void()>& before_change,
+    std::size_t max_triangles) {
     Impl& s = *m_impl;
     CutResult result;
     if (!s.validate(world, positions, result))
         return result;
+    // A cap on the triangles of one call bounds the work that grows faster than the cells
+    // changed (issue 14 item 1). Every triangle is validated above; only the first
+    // max_triangles are mapped and cut now (mapping is per call: mapping all of a long request
+    // at every tick would cost O(T) per tick), and the rest is deferred like the cell budget's.
+    const std::span<const Triangle> now
+        = max_triangles > 0 && world.size() > max_triangles ? world.first(max_triangles) : world;
     std::vector<std::size_t> source;
-    const std::vector<Triangle> rest = s.map(world, positions, source, result);
-    result.consumed = world.size();
+    const std::vector<Triangle> rest = s.map(now, positions, source, result);
+    result.consumed = now.size();
+    if (now.size() < world.size()) {
+        result.status = CutStatus::Deferred;
+        result.deferred = world.size() - now.size();
+    }
     if (rest.empty())
         return result;
     try {

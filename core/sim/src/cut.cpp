@@ -16,7 +16,7 @@
 
 namespace polycut::sim {
 
-CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
+CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int max_triangles) {
     Impl& s = *m_impl;
     Stopwatch watch;
     CutSummary summary;
@@ -38,7 +38,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
     }
     std::unique_ptr<Impl::Snapshot> before;
     cut::CutResult result = s.cutting->cut(
-        world, s.positions, budget > 0 ? s.cut_cells_left : 0, [&] { before = s.take_snapshot(); });
+        world, s.positions, budget > 0 ? s.cut_cells_left : 0, [&] { before = s.take_snapshot(); },
+        std::size_t(std::max(0, max_triangles)));
     summary.triangles_skipped = int(result.skipped);
     summary.triangles_deferred = int(result.deferred);
     if (result.status == cut::CutStatus::Rejected) {
@@ -46,6 +47,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world) {
         summary.rejected_triangle = int(result.rejected_triangle);
         summary.rejected_corner = result.rejected_corner;
         summary.reason = result.reason;
+    } else if (!before && result.status == cut::CutStatus::Deferred) {
+        summary.status = CutSummary::Status::Deferred; // nothing cut yet, the rest waits
     } else if (before) {
         s.settle_cut(result, summary, *before);
         if (summary.ok()) {

@@ -18,6 +18,11 @@ struct Limits {
     std::uint32_t max_frames_per_message = 8;
     /// Most sweep triangles in one `cut` request.
     std::uint32_t max_triangles_per_cut = 65536;
+    /// Most sweep triangles the cuts of one tick (each cut call: a `cut`, a stroke's sweep)
+    /// apply; the rest waits for the next ticks (`deferred`, the stream's `cut_deferred`). At
+    /// least one triangle per call is cut, so every stroke advances. A count, not a time, so a
+    /// replayed command log cuts the same (docs/reliability.md: tick figures per cutter).
+    std::uint32_t cut_triangles_per_tick = 16;
     /// Most requests per second from one client before -32004 Busy [1/s].
     double max_message_rate = 2000.0;
     /// Largest `step.ticks`.

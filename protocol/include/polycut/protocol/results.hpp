@@ -37,6 +37,10 @@ struct SceneResult {
     std::uint32_t vertex_count = 0; ///< surface vertices
     std::uint32_t triangle_count = 0; ///< surface triangles
     std::uint32_t cell_count = 0; ///< volume cells
+    /// The tick the replaced scene had reached when this one was installed (it went on ticking
+    /// while this one was built); absent when no scene was loaded before.
+    std::optional<std::int64_t> replaced_tick {};
+    double build_ms = 0.0; ///< wall time of the build, on the server's build thread [ms]
     bool operator==(const SceneResult&) const = default;
 };
 

@@ -80,9 +80,11 @@ public:
     /// everything as it was. Failed leaves the mesh half cut: restore it and call forget().
     /// `before_change` runs once right before the mesh is first changed (to snapshot what the
     /// caller must undo), and not at all when nothing is to be cut. Never throws for bad input or a
-    /// failing cutter.
+    /// failing cutter. With `max_triangles` > 0 at most that many mapped triangles are cut and
+    /// the rest is Deferred the same way (every triangle is still validated first).
     CutResult cut(std::span<const Triangle> world, std::span<const Vec3> positions,
-        Index max_changed_cells = 0, const std::function<void()>& before_change = {});
+        Index max_changed_cells = 0, const std::function<void()>& before_change = {},
+        std::size_t max_triangles = 0);
     /// Ends the current stroke: forgets its corners; face snapping cuts the faces it held back
     /// (their pinched edges split), so a stroke ends complete. Same contract as cut().
     CutResult end_stroke(const std::function<void()>& before_change = {});

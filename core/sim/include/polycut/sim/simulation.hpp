@@ -215,7 +215,9 @@ public:
     /// Triangles outside the tissue or too small to cut at the tissue's scale change nothing
     /// (CutSummary::triangles_skipped). A cut whose next step() fails is undone by that step
     /// (StepReport::cut_undone).
-    CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles);
+    /// `max_triangles` > 0 also caps the triangles cut in this call (the rest is Deferred; the
+    /// server's per-tick triangle budget, protocol Limits::cut_triangles_per_tick).
+    CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles, int max_triangles = 0);
     /// How far a scalpel blade should move between the samples a client's stroke is swept
     /// from [m]: cell splitting cuts strips at least a quarter of the mean cell size wide (one
     /// sliver strip per tick from a slowly moving blade makes slivers, and costs a cut each);
