@@ -81,8 +81,8 @@ public:
     /// The values of the matrix passed to the next apply() differ from the last one's (a new
     /// solve): the node-block copy is refreshed then. The pattern is checked by apply() itself.
     void matrix_changed() { m_blocks_stale = true; }
-    /// Smooth the finest level by node blocks when its matrix allows (see the file comment;
-    /// default true); takes effect at the next finish().
+    /// Smooth the finest level by node blocks when its matrix allows (see the file comment);
+    /// takes effect at the next finish().
     void set_node_blocks(bool on) { m_node_blocks_wanted = on; }
     /// Threads for the finest level (>= 1, see the file comment); takes effect at once.
     void set_threads(int threads);
@@ -144,7 +144,7 @@ private:
     std::vector<int> m_node_own_begin, m_node_own_end;
     std::vector<double> m_node_value, m_node_inverse;
     bool m_blocks_stale = true;
-    bool m_node_blocks_wanted = true;
+    bool m_node_blocks_wanted = false;
 };
 
 } // namespace polycut::solve::detail

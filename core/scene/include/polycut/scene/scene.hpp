@@ -170,7 +170,7 @@ struct Solver {
     int amg_aggressive_levels = 1; ///< levels coarsened aggressively
     int amg_interpolation_max_elements = 4; ///< interpolation entries per row (0 = all)
     bool amg_rigid_body_modes = false; ///< interpolate the rigid rotations too (GM-2)
-    bool amg_node_blocks = true; ///< 3x3 node-block smoothing of the finest level
+    bool amg_node_blocks = false; ///< 3x3 node-block smoothing of the finest level
     /// solves between starting a requested set-up on a worker thread and installing it (0 = set
     /// up in the foreground, blocking that step)
     int amg_background_solves = 8;

@@ -53,7 +53,10 @@ struct AmgOptions {
     /// fused_cycle on a matrix whose unknowns come as whole nodes (3 per node, one 3x3-block
     /// pattern): smooth the finest level by 3x3 block Gauss-Seidel on a block-CSR copy refreshed
     /// once per solve (amg_cycle.hpp, "Node blocks"); false: point Gauss-Seidel on the matrix.
-    bool node_blocks = true;
+    /// Off by default: on the 5k-node organ (idle machine) the same iterations, and the copy
+    /// costs more than the faster sweeps save (solve 8.7-8.9 -> 10.6-12.8 ms on one thread,
+    /// mixed on two; docs/perf.md "Organ scale")
+    bool node_blocks = false;
     /// A set-up that the lagged rule asks for (PcgOptions::refactor_iterations) runs on a worker
     /// thread and is installed exactly this many solves later, waiting for it if it is late (a
     /// fixed hand-over, so a replayed command log solves the same); the old hierarchy, carried
