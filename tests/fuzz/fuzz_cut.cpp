@@ -21,7 +21,8 @@
 //   surface, finite, consistent face table);
 //   Rejected / Failed: nothing changed (state hash, cells, topology version).
 // After the steps: every position finite and within 3 rest diagonals of the rest centre (plus
-// the free fall since the reset: cut-free pieces fall under gravity), the energy finite. Any violation aborts with the input's description on stderr.
+// the free fall since the reset: cut-free pieces fall under gravity), the energy finite. Any
+// violation aborts with the input's description on stderr.
 #include "impl.hpp"
 #include "polycut/cut/invariants.hpp"
 #include "polycut/scene/scene.hpp"

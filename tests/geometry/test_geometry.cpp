@@ -9,8 +9,7 @@ using namespace polycut;
 using namespace polycut::geometry;
 
 namespace {
-std::vector<Vec3> cube_points()
-{
+std::vector<Vec3> cube_points() {
     std::vector<Vec3> p;
     for (int k = 0; k < 2; ++k)
         for (int j = 0; j < 2; ++j)
@@ -19,15 +18,13 @@ std::vector<Vec3> cube_points()
     return p;
 }
 // Outward loops of the box with points indexed i + 2j + 4k.
-std::vector<std::vector<Index>> cube_loops()
-{
+std::vector<std::vector<Index>> cube_loops() {
     return { { 0, 2, 3, 1 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 }, { 2, 6, 7, 3 }, { 0, 4, 6, 2 },
         { 1, 3, 7, 5 } };
 }
 } // namespace
 
-TEST(Geometry, PolygonAreaNormalCentroid)
-{
+TEST(Geometry, PolygonAreaNormalCentroid) {
     const std::vector<Vec3> sq { { 0, 0, 1 }, { 2, 0, 1 }, { 2, 2, 1 }, { 0, 2, 1 } };
     EXPECT_NEAR(polygon_area(sq), 4.0, 1e-14);
     EXPECT_NEAR((polygon_normal(sq) - Vec3(0, 0, 1)).norm(), 0.0, 1e-14);
@@ -41,8 +38,7 @@ TEST(Geometry, PolygonAreaNormalCentroid)
     EXPECT_NEAR((polygon_centroid(L) - expect).norm(), 0.0, 1e-14);
 }
 
-TEST(Geometry, BoxVolumeCentroidConvexity)
-{
+TEST(Geometry, BoxVolumeCentroidConvexity) {
     const auto p = cube_points();
     const auto loops = cube_loops();
     EXPECT_NEAR(polyhedron_volume(p, loops), 30.0, 1e-12);
@@ -54,8 +50,7 @@ TEST(Geometry, BoxVolumeCentroidConvexity)
     EXPECT_FALSE(polyhedron_is_convex(dented, loops));
 }
 
-TEST(Geometry, WindingNumberInsideOutsideAndInANotch)
-{
+TEST(Geometry, WindingNumberInsideOutsideAndInANotch) {
     const auto p = cube_points();
     const auto loops = cube_loops();
     EXPECT_NEAR(polyhedron_winding(p, loops, Vec3(1, 1.5, 2.5)), 1.0, 1e-12);
@@ -77,8 +72,7 @@ TEST(Geometry, WindingNumberInsideOutsideAndInANotch)
     EXPECT_NEAR(polyhedron_winding(L, prism, Vec3(1.5, 1.5, 0.5)), 0.0, 1e-12); // the notch
 }
 
-TEST(Geometry, AffineFitRecoversRotationAndStretch)
-{
+TEST(Geometry, AffineFitRecoversRotationAndStretch) {
     const auto X = cube_points();
     const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
     Mat3 S;
@@ -94,16 +88,14 @@ TEST(Geometry, AffineFitRecoversRotationAndStretch)
     EXPECT_NEAR((polar_rotation(fit.A) - R).norm(), 0.0, 1e-12);
 }
 
-TEST(Geometry, PolarRotationOfReflectionIsProper)
-{
+TEST(Geometry, PolarRotationOfReflectionIsProper) {
     const Mat3 A = Vec3(1, 1, -0.5).asDiagonal();
     const Mat3 R = polar_rotation(A);
     EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
     EXPECT_NEAR((R.transpose() * R - Mat3::Identity()).norm(), 0.0, 1e-12);
 }
 
-TEST(Geometry, AffineFitReportsFlatPointSets)
-{
+TEST(Geometry, AffineFitReportsFlatPointSets) {
     const std::vector<Vec3> flat_pts { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 1, 0 } };
     EXPECT_FALSE(fit_affine(flat_pts, flat_pts).ok);
 }

@@ -2,6 +2,7 @@
 // (the bench_box meshes; x = 0 face fixed, E = 10 kPa, nu = 0.45): agreement with CHOLMOD,
 // iteration counts bounded as the mesh refines (the point of multigrid; Jacobi's grow like h^-1),
 // lagged set-up schedule, and indefinite / non-finite inputs reported.
+#include "amg_box.hpp"
 #include "grid_matrix.hpp"
 #include "polycut/elasticity/elastic_model.hpp"
 #include "polycut/mesh/builders.hpp"
@@ -19,51 +20,12 @@
 
 using namespace polycut;
 using namespace polycut::solve;
+using polycut::solve::testing::amg_options;
+using polycut::solve::testing::box_system;
+using polycut::solve::testing::BoxSystem;
 using polycut::solve::testing::random_vector;
 
 namespace {
-
-/// Stiffness (and lumped mass per free DOF) of an n^3-block Kuhn box of side 0.1 m, x = 0 fixed.
-struct BoxSystem {
-    SparseMatrix K;
-    Vector mass;
-    Vector coordinates; ///< rest coordinate of each free DOF's node along its component [m]
-};
-
-BoxSystem box_system(int n, double nu = 0.45) {
-    mesh::BoxGrid g;
-    g.lo = Vec3::Zero();
-    g.hi = Vec3::Constant(0.1);
-    g.cells = Eigen::Vector3i(n, n, n);
-    const mesh::Mesh m = mesh::tet_grid(g, mesh::TetSplit::Kuhn6);
-    std::vector<std::uint8_t> fixed(std::size_t(m.num_nodes()), 0);
-    for (Index i = 0; i < m.num_nodes(); ++i)
-        fixed[std::size_t(i)] = std::abs(m.rest[std::size_t(i)].x()) < 1e-9;
-    elasticity::Material material;
-    material.youngs_modulus = 1e4;
-    material.poisson_ratio = nu;
-    material.density = 1000;
-    elasticity::ElasticModel model(
-        m, material, basis::BasisOptions {}, elasticity::fix_nodes(fixed));
-    BoxSystem s;
-    s.K = model.make_matrix();
-    VecX f;
-    MatX3 x(m.num_nodes(), 3);
-    for (Index i = 0; i < m.num_nodes(); ++i)
-        x.row(i) = m.rest[std::size_t(i)].transpose();
-    model.assemble(x, elasticity::ForceMode::Linear, &s.K, &f);
-    s.mass = model.reduced_mass();
-    model.reduce(VecX(flat(x)), s.coordinates);
-    return s;
-}
-
-PcgOptions amg_options(double tol) {
-    PcgOptions o;
-    o.preconditioner = Preconditioner::Amg;
-    o.relative_tolerance = tol;
-    o.max_iterations = 500;
-    return o;
-}
 
 /// PCG iterations from zero to `tol` on K u = b, b random (AMG settings `amg`; `coordinates` for
 /// the rigid-body modes).
@@ -577,80 +539,4 @@ TEST(Amg, BackgroundSetUpIsInstalledExactlyKSolvesLaterAndRepeatsBitForBit) {
     ASSERT_EQ(xs1.size(), xs2.size());
     for (std::size_t k = 0; k < xs1.size(); ++k)
         EXPECT_EQ((xs1[k] - xs2[k]).cwiseAbs().maxCoeff(), 0.0) << "solve " << k + 1;
-}
-
-TEST(Amg, NodeBlockSmoothingConvergesLikePointSmoothingOnOneAndTwoThreads) {
-    // The finest level smoothed by 3x3 node blocks (AmgOptions::node_blocks, amg_cycle.hpp) is
-    // still a symmetric positive definite cycle: PCG reaches 1e-8 (a non-symmetric or indefinite
-    // cycle stalls or breaks down) in no more iterations than point Gauss-Seidel, + 1 for
-    // round-off, on one and two threads; a new matrix of the same pattern (stiffness part 1.5x)
-    // refreshes the block copy (its solve meets the tolerance on the new matrix).
-    const BoxSystem s = box_system(10);
-    const double h = 0.01, beta = 0.01;
-    SparseMatrix A = (h * h + h * beta) * s.K;
-    A.diagonal() += s.mass;
-    SparseMatrix A2 = (1.5 * (h * h + h * beta)) * s.K;
-    A2.diagonal() += s.mass;
-    const Vector b = random_vector(A.rows(), 17);
-    for (int threads : { 1, 2 }) {
-        int its[2][2] = {};
-        for (int blocks = 0; blocks < 2; ++blocks) {
-            PcgOptions o = amg_options(1e-8);
-            o.threads = threads;
-            o.amg.node_blocks = blocks == 1;
-            o.refactor_iterations = 1000;
-            PcgSolver pcg(o);
-            for (int m = 0; m < 2; ++m) {
-                const SparseMatrix& M = m == 0 ? A : A2;
-                Vector x;
-                const PcgResult r = pcg.solve(M, b, x);
-                ASSERT_EQ(r.status, SolveStatus::Ok) << threads << " " << blocks;
-                EXPECT_LE(Vector(M * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
-                its[blocks][m] = r.iterations;
-            }
-        }
-        EXPECT_LE(its[1][0], its[0][0] + 1) << threads;
-        EXPECT_LE(its[1][1], its[0][1] + 1) << threads;
-        RecordProperty("amg_its_point_block_t" + std::to_string(threads),
-            std::to_string(its[0][0]) + " " + std::to_string(its[1][0]) + " "
-                + std::to_string(its[0][1]) + " " + std::to_string(its[1][1]));
-    }
-}
-
-TEST(Amg, NodeBlocksFallBackToPointSweepsWhenNodesArePartlyFixed) {
-    // Three DOFs of three different nodes removed (x of one, y of another, z of a third, as
-    // single-component supports do): the size is still a multiple of 3 but the unknowns no
-    // longer come as whole nodes, so the cycle keeps point Gauss-Seidel; with node_blocks on or
-    // off the solves are then the same bit for bit.
-    const BoxSystem s = box_system(6);
-    SparseMatrix A = 1e-2 * s.K;
-    A.diagonal() += s.mass;
-    const long n = A.rows();
-    const long k = n / 12;
-    const std::vector<long> drop = { 3 * k, 3 * (2 * k) + 1, 3 * (3 * k) + 2 };
-    std::vector<long> new_of(std::size_t(n), -1);
-    long m = 0;
-    for (long i = 0; i < n; ++i)
-        if (std::find(drop.begin(), drop.end(), i) == drop.end())
-            new_of[std::size_t(i)] = m++;
-    ASSERT_EQ(m % 3, 0);
-    std::vector<Eigen::Triplet<double>> t;
-    for (long j = 0; j < n; ++j)
-        for (SparseMatrix::InnerIterator it(A, j); it; ++it)
-            if (new_of[std::size_t(it.row())] >= 0 && new_of[std::size_t(j)] >= 0)
-                t.emplace_back(int(new_of[std::size_t(it.row())]), int(new_of[std::size_t(j)]),
-                    it.value());
-    SparseMatrix B(m, m);
-    B.setFromTriplets(t.begin(), t.end());
-    B.makeCompressed();
-    const Vector b = random_vector(B.rows(), 19);
-    Vector x[2];
-    for (int blocks = 0; blocks < 2; ++blocks) {
-        PcgOptions o = amg_options(1e-8);
-        o.amg.node_blocks = blocks == 1;
-        PcgSolver pcg(o);
-        ASSERT_EQ(pcg.solve(B, b, x[blocks]).status, SolveStatus::Ok);
-        EXPECT_LE(Vector(B * x[blocks] - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
-    }
-    EXPECT_EQ(std::memcmp(x[0].data(), x[1].data(), sizeof(double) * std::size_t(x[0].size())), 0);
 }

@@ -7,36 +7,33 @@
 
 namespace polycut::geometry {
 namespace {
-    // Fan-triangulates each loop around its vertex mean (exact for planar loops) and calls
-    // visit(a, b, c) per triangle.
-    template <class Visit>
-    void for_each_triangle(const std::vector<Vec3>& points,
-        const std::vector<std::vector<Index>>& loops, Visit&& visit)
-    {
-        for (const auto& loop : loops) {
-            Vec3 m = Vec3::Zero();
-            for (Index i : loop)
-                m += points[std::size_t(i)];
-            m /= double(loop.size());
-            for (std::size_t i = 0; i < loop.size(); ++i)
-                visit(m, points[std::size_t(loop[i])],
-                    points[std::size_t(loop[(i + 1) % loop.size()])]);
-        }
+// Fan-triangulates each loop around its vertex mean (exact for planar loops) and calls
+// visit(a, b, c) per triangle.
+template <class Visit>
+void for_each_triangle(
+    const std::vector<Vec3>& points, const std::vector<std::vector<Index>>& loops, Visit&& visit) {
+    for (const auto& loop : loops) {
+        Vec3 m = Vec3::Zero();
+        for (Index i : loop)
+            m += points[std::size_t(i)];
+        m /= double(loop.size());
+        for (std::size_t i = 0; i < loop.size(); ++i)
+            visit(
+                m, points[std::size_t(loop[i])], points[std::size_t(loop[(i + 1) % loop.size()])]);
     }
+}
 } // namespace
 
-double polyhedron_volume(const std::vector<Vec3>& points,
-    const std::vector<std::vector<Index>>& loops)
-{
+double polyhedron_volume(
+    const std::vector<Vec3>& points, const std::vector<std::vector<Index>>& loops) {
     double v = 0;
     for_each_triangle(points, loops,
         [&](const Vec3& a, const Vec3& b, const Vec3& c) { v += a.dot(b.cross(c)); });
     return v / 6.0;
 }
 
-Vec3 polyhedron_centroid(const std::vector<Vec3>& points,
-    const std::vector<std::vector<Index>>& loops)
-{
+Vec3 polyhedron_centroid(
+    const std::vector<Vec3>& points, const std::vector<std::vector<Index>>& loops) {
     // Tetrahedra from an interior reference point (vertex mean) to each surface triangle.
     Vec3 ref = Vec3::Zero();
     std::size_t n = 0;
@@ -56,9 +53,8 @@ Vec3 polyhedron_centroid(const std::vector<Vec3>& points,
     return vol != 0 ? Vec3(c / vol) : ref;
 }
 
-bool polyhedron_is_convex(const std::vector<Vec3>& points,
-    const std::vector<std::vector<Index>>& loops, double tol)
-{
+bool polyhedron_is_convex(
+    const std::vector<Vec3>& points, const std::vector<std::vector<Index>>& loops, double tol) {
     Aabb box;
     for (const auto& loop : loops)
         for (Index i : loop)
@@ -76,16 +72,15 @@ bool polyhedron_is_convex(const std::vector<Vec3>& points,
     return true;
 }
 
-double polyhedron_winding(const std::vector<Vec3>& points,
-    const std::vector<std::vector<Index>>& loops, const Vec3& x)
-{
+double polyhedron_winding(
+    const std::vector<Vec3>& points, const std::vector<std::vector<Index>>& loops, const Vec3& x) {
     double omega = 0;
     for_each_triangle(points, loops, [&](const Vec3& pa, const Vec3& pb, const Vec3& pc) {
         const Vec3 a = pa - x, b = pb - x, c = pc - x;
         const double la = a.norm(), lb = b.norm(), lc = c.norm();
         omega += 2
-            * std::atan2(a.dot(b.cross(c)),
-                la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+            * std::atan2(
+                a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
     });
     return omega / (4 * std::numbers::pi);
 }
