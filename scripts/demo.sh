@@ -105,6 +105,9 @@ echo "polycut demo: re-rendering the session offline from its command log ($OUT/
 echo "polycut demo: the octree organ cut live ($OUT/organ_octree_cut.mp4)" >&2
 POLYCUT_BIN="$BIN" POLYCUT_OUT="$OUT" scripts/record_organ_octree.sh >"$work/organ.json" \
   || status=1
+# Tools pressing tissue: the probe on the organ, the spatula in the incision (issue 15).
+echo "polycut demo: tools pressing tissue ($OUT/organ_table_probe.mp4, $OUT/incision_spatula.mp4)" >&2
+POLYCUT_BIN="$BIN" POLYCUT_OUT="$OUT" scripts/record_contact.sh >"$work/contact.json" || status=1
 frames=$(sed -n 's/.*"frames":\([0-9]*\).*/\1/p' "$work/record.json" 2>/dev/null || true)
 echo "" >&2
 # A live recorder at nice 10 can be starved by other sessions' load (docs/recording.md); the

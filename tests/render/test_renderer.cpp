@@ -203,6 +203,58 @@ TEST(Renderer, ArrowAndBladeAreDrawn) {
     EXPECT_GT(count_near(image, config.blade_colour), 20);
 }
 
+TEST(Renderer, ToolsAreDrawnOutwardAtTheirPose) {
+    // A probe ball, a capsule shaft and a spatula box beside the block, unlit in the tool
+    // colour, with back faces culled (as the recorder renders): each shape covers about its
+    // projected area (so none is inside-out), and where the tool's position projects, the
+    // pixel is the tool's.
+    const TestSurface block = make_block();
+    RenderConfig config = small_config(320, 240);
+    config.tool_colour = { 0.0f, 1.0f, 0.0f };
+    config.ambient = 1.0f;
+    config.key = config.fill = config.specular = 0.0f;
+    config.cull_back_faces = true;
+    const Camera camera = block_camera(config.width, config.height);
+    Renderer renderer(config);
+    DrawList scene = block.draw_list();
+    EXPECT_EQ(count_near(renderer.render(scene, camera), config.tool_colour), 0);
+    std::array<Tool, 3> tools;
+    tools[0].kind = Tool::Kind::Sphere;
+    tools[0].position = Vec3(0.05, 0.03, 0.06);
+    tools[0].radius = 0.006;
+    tools[1].kind = Tool::Kind::Capsule;
+    tools[1].position = Vec3(0.02, 0.0, 0.07);
+    tools[1].radius = 0.003;
+    tools[1].length = 0.03;
+    tools[1].rotation = Eigen::AngleAxisd(0.5, Vec3::UnitX()).toRotationMatrix();
+    tools[2].kind = Tool::Kind::Box;
+    tools[2].position = Vec3(0.08, 0.0, 0.07);
+    tools[2].size = Vec3(0.02, 0.01, 0.002);
+    tools[2].rotation = Eigen::AngleAxisd(0.7, Vec3::UnitZ()).toRotationMatrix();
+    for (std::size_t i = 0; i < tools.size(); ++i) {
+        scene.tools = std::span(&tools[i], 1);
+        const Image image = renderer.render(scene, camera);
+        EXPECT_GT(count_near(image, config.tool_colour), 30) << i;
+        const Vec3 p = camera.project(tools[i].position, config.width, config.height);
+        const std::uint8_t* px = image.pixel(int(p.x()), int(p.y()));
+        EXPECT_GT(px[1], 230) << i;
+        EXPECT_LT(px[0], 25) << i;
+    }
+    // The ball's silhouette: a disc of the projected radius (within 15 %).
+    scene.tools = std::span(&tools[0], 1);
+    const Image ball = renderer.render(scene, camera);
+    const Vec3 c = camera.project(tools[0].position, config.width, config.height);
+    const Vec3 right = camera.view_matrix().block<1, 3>(0, 0).transpose(); // camera x in the world
+    const Vec3 rim = camera.project(tools[0].position + 0.006 * right, config.width, config.height);
+    const double r = (rim - c).head<2>().norm();
+    const double expected = 3.14159265358979 * r * r;
+    EXPECT_NEAR(double(count_near(ball, config.tool_colour)), expected, 0.15 * expected);
+    Tool bad = tools[0];
+    bad.position.x() = std::nan("");
+    scene.tools = std::span(&bad, 1);
+    EXPECT_THROW(renderer.render(scene, camera), InputError);
+}
+
 TEST(Renderer, MultisamplingBlendsEdges) {
     // Without MSAA every pixel is background or a shaded surface colour; with 4x MSAA the
     // silhouette has pixels partly covered, so more distinct colours appear.

@@ -1,12 +1,13 @@
 // The embedded surface through the facade (issue 15 item 2): the surface the simulation hands
 // out (stream, renderer) is the embedded one, it follows the tissue, contact samples it, and
-// after a cut it is embedded in the cut mesh with the lips (tag 2) streamed beside it.
+// a cut splits it along the blade and closes it with detailed lips (tag 2).
 #include "polycut/sim/simulation.hpp"
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
+#include <map>
 
 using namespace polycut;
 
@@ -109,25 +110,102 @@ TEST(SimEmbedded, ContactSamplesTheEmbeddedSurface) {
     EXPECT_LT(lowest, -0.001);
 }
 
-TEST(SimEmbedded, ACutReembedsAndStreamsTheLips) {
-    // A vertical cut through the top half of the block: the embedded skin keeps its triangles
-    // (not split: its vertices follow the piece their rest position lies in), and the lips of
-    // the cut mesh come with it as tag-2 triangles, closed over both sides.
+namespace {
+/// Directed edges of the triangles that do not appear exactly once with their reverse once.
+int open_edges(const std::vector<std::uint32_t>& tri) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
+    for (std::size_t t = 0; t < tri.size(); t += 3)
+        for (int k = 0; k < 3; ++k)
+            ++count[{ tri[t + std::size_t(k)], tri[t + std::size_t((k + 1) % 3)] }];
+    int bad = 0;
+    for (const auto& [e, n] : count) {
+        const auto it = count.find({ e.second, e.first });
+        bad += n != 1 || it == count.end() || it->second != 1;
+    }
+    return bad;
+}
+} // namespace
+
+TEST(SimEmbedded, ACutSplitsTheSkinAndClosesItWithDetailedLips) {
+    // A vertical cut through the top half of the block: the embedded skin is split along the
+    // blade (more skin triangles, no triangle across the cut) and closed by lips (tag 2) in the
+    // cut plane, so the surface handed out is closed and oriented before and after the cut
+    // opens under gravity; the split touched only the triangles near the cut.
     const std::string path = sphere_off(Vec3(0, 0, 0.02), 0.019, 24, 48);
     sim::Simulation s(scene::parse_scene(block_text(path, "mvc", R"(,
-      "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}])")));
-    const std::size_t skin = s.surface().tags.size();
+      "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}],
+      "loads": {"gravity": [0, 0, -9.81]})")));
+    const sim::Surface before = s.surface();
+    const std::size_t skin = before.tags.size();
+    EXPECT_EQ(open_edges(before.triangles), 0);
     const sim::CutSummary cut
         = s.cut({ { Vec3(-0.03, 0.001, 0.05), Vec3(0.03, 0.001, 0.05), Vec3(-0.03, 0.001, 0.021) },
             { Vec3(0.03, 0.001, 0.05), Vec3(0.03, 0.001, 0.021), Vec3(-0.03, 0.001, 0.021) } });
     ASSERT_TRUE(cut.ok()) << cut.reason;
-    ASSERT_FALSE(s.step().rolled_back);
+    const sim::EmbeddedStats st = s.embedded_stats();
+    EXPECT_TRUE(st.split);
+    EXPECT_FALSE(st.full);
+    EXPECT_GT(st.patch_triangles, 0u);
+    EXPECT_LT(st.patch_triangles, skin / 2);
     const sim::Surface after = s.surface();
+    EXPECT_GT(after.topology_version, before.topology_version);
     std::size_t skin_after = 0, lips = 0;
     for (const auto tag : after.tags)
         (tag == 1 ? skin_after : lips) += 1;
-    EXPECT_EQ(skin_after, skin);
+    EXPECT_GT(skin_after, skin);
     EXPECT_GT(lips, 0u);
-    for (const float x : after.positions)
+    EXPECT_EQ(lips, st.lip_triangles);
+    EXPECT_EQ(open_edges(after.triangles), 0);
+    for (std::size_t t = 0; t < after.tags.size(); ++t)
+        if (after.tags[t] == 2)
+            for (int k = 0; k < 3; ++k) // at rest: the lips lie in the cut plane (float32)
+                ASSERT_NEAR(
+                    after.positions[3 * after.triangles[3 * t + std::size_t(k)] + 1], 0.001, 1e-7);
+    for (int i = 0; i < 30; ++i)
+        ASSERT_FALSE(s.step().rolled_back);
+    const sim::Surface opened = s.surface();
+    EXPECT_EQ(opened.topology_version, after.topology_version);
+    EXPECT_EQ(opened.triangles, after.triangles);
+    for (const float x : opened.positions)
         ASSERT_TRUE(std::isfinite(x));
+    // The two lips part at the top (the halves sag apart under gravity): some lip vertices
+    // that coincided at rest are now apart.
+    std::map<std::array<float, 3>, std::size_t> first;
+    double gap = 0;
+    for (std::size_t v = 0; v < after.positions.size() / 3; ++v) {
+        const std::array<float, 3> p { after.positions[3 * v], after.positions[3 * v + 1],
+            after.positions[3 * v + 2] };
+        const auto [it, fresh] = first.emplace(p, v);
+        if (!fresh)
+            for (int k = 0; k < 3; ++k)
+                gap = std::max(gap,
+                    double(std::abs(opened.positions[3 * v + std::size_t(k)]
+                        - opened.positions[3 * it->second + std::size_t(k)])));
+    }
+    EXPECT_GT(gap, 1e-6);
+}
+
+TEST(SimEmbedded, AStrokeOverTicksKeepsTheSurfaceClosed) {
+    // The blade drawn across the block in 8 sweeps, one per tick, as the server applies a
+    // scalpel: after every tick the surface is closed and oriented; reset() embeds it anew.
+    const std::string path = sphere_off(Vec3(0, 0, 0.02), 0.019, 24, 48);
+    sim::Simulation s(scene::parse_scene(block_text(path, "mvc", R"(,
+      "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}])")));
+    const Vec3 down(0, 0, -0.03);
+    auto at = [](int k) { return Vec3(-0.025 + 0.05 * k / 8, 0.0015, 0.045); };
+    int applied = 0;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 a = at(k), b = at(k + 1);
+        const sim::CutSummary c = s.cut({ { a, a + down, b }, { b, a + down, b + down } });
+        applied += c.status == sim::CutSummary::Status::Applied;
+        ASSERT_FALSE(s.step().rolled_back) << k;
+        const sim::Surface now = s.surface();
+        ASSERT_EQ(open_edges(now.triangles), 0) << "after sweep " << k;
+        EXPECT_TRUE(s.embedded_stats().split);
+    }
+    s.end_stroke();
+    ASSERT_FALSE(s.step().rolled_back);
+    EXPECT_EQ(open_edges(s.surface().triangles), 0);
+    EXPECT_GT(applied, 4);
+    EXPECT_GT(s.embedded_stats().lip_triangles, 0u);
 }

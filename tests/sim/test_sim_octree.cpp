@@ -7,6 +7,7 @@
 #include "polycut/sim/simulation.hpp"
 
 #include <gtest/gtest.h>
+#include <map>
 
 using namespace polycut;
 
@@ -262,10 +263,21 @@ TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
     const int samples = 24;
     auto at = [&](int k) { return Vec3(-0.035 + 0.07 * k / samples, 0.0025, 0.05); };
     int applied = 0, undone = 0;
+    std::vector<double> embed_ms, split_ms, corefine_ms, patch, reembedded, cut_ms;
     for (int k = 0; k < samples; ++k) {
         const Vec3 a = at(k), b = at(k + 1);
         const sim::CutSummary c = s.cut({ { a, a + blade, b }, { b, a + blade, b + blade } });
         applied += c.status == sim::CutSummary::Status::Applied;
+        if (c.topology_changed) {
+            const sim::EmbeddedStats es = s.embedded_stats();
+            ASSERT_TRUE(es.split) << k;
+            embed_ms.push_back(es.embed_ms);
+            split_ms.push_back(es.split_ms);
+            corefine_ms.push_back(es.corefine_ms);
+            patch.push_back(double(es.patch_triangles));
+            reembedded.push_back(double(es.reembedded));
+            cut_ms.push_back(c.cut_ms);
+        }
         const sim::StepReport r = s.step();
         // a step that fails right after a cut undoes that cut and the tissue steps on (the
         // server's contract); any other failure is one
@@ -286,6 +298,39 @@ TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
     for (std::uint8_t tag : cut.tags)
         lips += tag == 2;
     EXPECT_GT(lips, 0u);
+    // The detailed surface is split along the cut (decision 0033): closed and oriented, its
+    // lips carry tag 2.
+    {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+        for (std::size_t t = 0; t < cut.triangles.size(); t += 3)
+            for (int k = 0; k < 3; ++k)
+                ++edges[{ cut.triangles[t + std::size_t(k)],
+                    cut.triangles[t + std::size_t((k + 1) % 3)] }];
+        int open_count = 0;
+        for (const auto& [edge, uses] : edges) {
+            const auto back = edges.find({ edge.second, edge.first });
+            open_count += uses != 1 || back == edges.end() || back->second != 1;
+        }
+        EXPECT_EQ(open_count, 0);
+        EXPECT_GT(cut.triangles.size(), 3 * std::size_t(79872)); // the skin was split
+    }
+    auto median = [](std::vector<double> v) {
+        if (v.empty())
+            return 0.0;
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
+    auto largest = [](const std::vector<double>& v) {
+        return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+    };
+    std::printf(
+        "organ_octree split per cut (%zu cuts): embed %.1f ms median / %.1f max (split %.1f "
+        "/ %.1f, CGAL corefine %.1f / %.1f), patch %.0f / %.0f of %zu skin triangles, "
+        "%.0f / %.0f vertices re-embedded; cut_ms %.1f / %.1f\n",
+        embed_ms.size(), median(embed_ms), largest(embed_ms), median(split_ms), largest(split_ms),
+        median(corefine_ms), largest(corefine_ms), median(patch), largest(patch),
+        std::size_t(79872), median(reembedded), largest(reembedded), median(cut_ms),
+        largest(cut_ms));
     std::sort(step_ms.begin(), step_ms.end());
     std::printf("organ_octree: %ld DOFs (%ld hexes, %ld polyhedra), %d of %d sweeps applied, %d "
                 "undone by the next step, cut area %.2f cm^2, %zu lip triangles, step median %.1f "

@@ -41,7 +41,7 @@ FrameRecorder::FrameRecorder(const RecordRender& settings, std::unique_ptr<Frame
     }
 }
 
-void FrameRecorder::add(const render::SurfaceArrays& surface) {
+void FrameRecorder::add(const render::SurfaceArrays& surface, std::span<const render::Tool> tools) {
     const Stopwatch watch;
     if (!m_camera) {
         const auto [lo, hi] = render::bounds(surface.positions);
@@ -49,6 +49,7 @@ void FrameRecorder::add(const render::SurfaceArrays& surface) {
     }
     render::DrawList scene;
     scene.surface = surface;
+    scene.tools = tools;
     m_renderer.render(scene, *m_camera, m_image);
     m_sink->write(m_frames, m_image);
     if (!m_settings.stills_dir.empty() && m_frames % m_settings.still_every == 0) {

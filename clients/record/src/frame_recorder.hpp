@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 
 namespace polycut::record {
@@ -34,8 +35,9 @@ public:
     /// Creates the renderer (InputError for bad settings; polycut::Error if GL fails).
     FrameRecorder(const RecordRender& settings, std::unique_ptr<FrameSink> sink);
 
-    /// Renders one frame and writes it to the sink. The first call fixes the camera.
-    void add(const render::SurfaceArrays& surface);
+    /// Renders one frame (the surface and the rigid tools) and writes it to the sink. The first
+    /// call fixes the camera.
+    void add(const render::SurfaceArrays& surface, std::span<const render::Tool> tools = {});
     /// Finishes the sink (see FrameSink::finish).
     void finish();
 

@@ -220,7 +220,22 @@ OfflineSummary record_offline(
         arrays.positions = surface.positions;
         arrays.triangles = surface.triangles;
         arrays.tags = surface.tags;
-        recorder->add(arrays);
+        // The tools where they were during this tick (issue 15: the videos show the probe
+        // pressing the tissue).
+        std::vector<render::Tool> tools;
+        for (const auto& [id, spec] : s.simulation().tools()) {
+            render::Tool t;
+            t.position = spec.pose.position;
+            t.rotation = spec.pose.orientation.normalized().toRotationMatrix();
+            t.radius = spec.radius;
+            t.length = spec.length;
+            t.size = spec.size;
+            t.kind = spec.kind == sim::ToolSpec::Kind::Sphere ? render::Tool::Kind::Sphere
+                : spec.kind == sim::ToolSpec::Kind::Capsule   ? render::Tool::Kind::Capsule
+                                                              : render::Tool::Kind::Box;
+            tools.push_back(t);
+        }
+        recorder->add(arrays, tools);
     };
     const server::ReplaySummary replay
         = server::replay_command_log(replay_log.path(), session, on_tick, until);

@@ -75,6 +75,13 @@ Embedding embed_surface(const mesh::Mesh& mesh, std::vector<Vec3> positions,
 }
 
 Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions, basis::PolyBasis poly) {
+    return embed_points(mesh, std::move(positions), {}, poly);
+}
+
+Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions,
+    const std::vector<Vec3>& probes, basis::PolyBasis poly) {
+    if (!probes.empty() && probes.size() != positions.size())
+        throw InputError("embedded", "probes and positions differ in number");
     if (mesh.num_cells() == 0)
         throw InputError("embedded", "the simulation mesh has no cells");
     Embedding e;
@@ -84,18 +91,20 @@ Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions, basi
     std::vector<Index> candidates;
     e.offsets.push_back(0);
     VecX w;
-    for (const Vec3& X : e.rest) {
+    for (std::size_t v = 0; v < e.rest.size(); ++v) {
+        const Vec3& X = e.rest[v];
+        const Vec3& probe = probes.empty() ? X : probes[v];
         Index cell = kNone;
-        grid.candidates(X, candidates);
+        grid.candidates(probe, candidates);
         for (const Index c : candidates)
-            if (grid.contains(c, X)) {
+            if (grid.contains(c, probe)) {
                 cell = c;
                 break;
             }
         const bool inside = cell != kNone;
         if (!inside) {
             double distance = 0;
-            cell = grid.nearest(X, distance);
+            cell = grid.nearest(probe, distance);
             ++e.outside;
             e.max_outside_distance = std::max(e.max_outside_distance, distance);
         }
@@ -134,6 +143,49 @@ Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions, basi
         e.cells.push_back(cell);
     }
     return e;
+}
+
+void reembed(Embedding& e, const mesh::Mesh& mesh, const std::vector<std::uint32_t>& vertices,
+    basis::PolyBasis poly) {
+    if (vertices.empty())
+        return;
+    std::vector<Vec3> positions, probes;
+    for (const std::uint32_t v : vertices) {
+        positions.push_back(e.rest[v]);
+        probes.push_back(e.probes.empty() ? e.rest[v] : e.probes[v]);
+    }
+    const Embedding part = embed_points(mesh, std::move(positions), probes, poly);
+    // New weights of the listed vertices, then the arrays rebuilt in vertex order.
+    std::vector<std::uint32_t> slot(e.rest.size(), ~0u);
+    for (std::size_t k = 0; k < vertices.size(); ++k)
+        slot[vertices[k]] = std::uint32_t(k);
+    std::vector<std::uint32_t> offsets { 0 };
+    std::vector<Index> nodes;
+    std::vector<double> weights;
+    nodes.reserve(e.nodes.size());
+    weights.reserve(e.weights.size());
+    e.cells.resize(e.rest.size(), kNone);
+    for (std::size_t v = 0; v < e.rest.size(); ++v) {
+        if (slot[v] != ~0u) {
+            const std::uint32_t k = slot[v];
+            for (std::uint32_t j = part.offsets[k]; j < part.offsets[k + 1]; ++j) {
+                nodes.push_back(part.nodes[j]);
+                weights.push_back(part.weights[j]);
+            }
+            e.cells[v] = part.cells[k];
+        } else if (v + 1 < e.offsets.size()) {
+            for (std::uint32_t j = e.offsets[v]; j < e.offsets[v + 1]; ++j) {
+                nodes.push_back(e.nodes[j]);
+                weights.push_back(e.weights[j]);
+            }
+        }
+        offsets.push_back(std::uint32_t(nodes.size()));
+    }
+    e.offsets = std::move(offsets);
+    e.nodes = std::move(nodes);
+    e.weights = std::move(weights);
+    e.outside += part.outside;
+    e.max_outside_distance = std::max(e.max_outside_distance, part.max_outside_distance);
 }
 
 Vec3 deformed_vertex(const Embedding& e, const std::vector<Vec3>& x, std::size_t v) {

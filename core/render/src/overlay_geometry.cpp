@@ -1,4 +1,5 @@
-// Cylinders, cones and arrows as lit triangles, for the scalpel blade and force arrows.
+// Cylinders, cones, arrows, spheres, capsules and boxes as lit triangles, for the scalpel blade,
+// force arrows and rigid tools.
 #include "overlay_geometry.hpp"
 
 #include <algorithm>
@@ -110,6 +111,64 @@ void append_arrow(const Vec3& origin, const Vec3& vector, double radius,
     const Vec3 neck = origin + (1 - head / length) * vector;
     append_cylinder(origin, neck, radius, colour, out);
     append_cone(neck, origin + vector, 2.5 * radius, colour, out);
+}
+
+void append_sphere(const Vec3& centre, double radius, const Mat3& rotation,
+    std::array<std::uint8_t, 4> colour, LitGeometry& out, int rings, int segments) {
+    if (!(radius > 0))
+        return;
+    const std::uint32_t first = static_cast<std::uint32_t>(out.vertices.size());
+    for (int i = 0; i <= rings; ++i) {
+        const double theta = std::numbers::pi * i / rings;
+        for (int j = 0; j <= segments; ++j) {
+            const double phi = 2 * std::numbers::pi * j / segments;
+            const Vec3 n = rotation
+                * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                    std::cos(theta));
+            push(out, centre + radius * n, n, colour);
+        }
+    }
+    const std::uint32_t row = static_cast<std::uint32_t>(segments + 1);
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const std::uint32_t a = first + i * row + j, b = a + row;
+            out.indices.insert(out.indices.end(), { a, b, b + 1, a, b + 1, a + 1 });
+        }
+}
+
+void append_capsule(const Vec3& a, const Vec3& b, double radius, std::array<std::uint8_t, 4> colour,
+    LitGeometry& out) {
+    if (!(radius > 0))
+        return;
+    append_cylinder(a, b, radius, colour, out, 24);
+    append_sphere(a, radius, Mat3::Identity(), colour, out);
+    append_sphere(b, radius, Mat3::Identity(), colour, out);
+}
+
+void append_box(const Vec3& centre, const Vec3& size, const Mat3& rotation,
+    std::array<std::uint8_t, 4> colour, LitGeometry& out) {
+    if (!(size.minCoeff() > 0))
+        return;
+    const Vec3 half = 0.5 * size;
+    for (int axis = 0; axis < 3; ++axis)
+        for (const int sign : { -1, 1 }) {
+            const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+            const Vec3 n = sign * rotation.col(axis);
+            const Vec3 c = centre + sign * half[axis] * rotation.col(axis);
+            const Vec3 u = half[a1] * rotation.col(a1), w = half[a2] * rotation.col(a2);
+            const std::uint32_t first = static_cast<std::uint32_t>(out.vertices.size());
+            push(out, c - u - w, n, colour);
+            push(out, c + u - w, n, colour);
+            push(out, c + u + w, n, colour);
+            push(out, c - u + w, n, colour);
+            // Counter-clockwise seen from outside (back faces may be culled).
+            if (sign > 0)
+                out.indices.insert(out.indices.end(),
+                    { first, first + 1, first + 2, first, first + 2, first + 3 });
+            else
+                out.indices.insert(out.indices.end(),
+                    { first, first + 2, first + 1, first, first + 3, first + 2 });
+        }
 }
 
 } // namespace polycut::render

@@ -44,4 +44,17 @@ void append_cone(const Vec3& base, const Vec3& tip, double radius,
 void append_arrow(const Vec3& origin, const Vec3& vector, double radius,
     std::array<std::uint8_t, 4> colour, LitGeometry& out);
 
+/// Appends a UV sphere of `radius` [m] about `centre` [m]; `rotation` turns its poles (local z).
+void append_sphere(const Vec3& centre, double radius, const Mat3& rotation,
+    std::array<std::uint8_t, 4> colour, LitGeometry& out, int rings = 12, int segments = 24);
+
+/// Appends a capsule: a cylinder of `radius` [m] from a to b [m] with hemispherical caps.
+void append_capsule(const Vec3& a, const Vec3& b, double radius, std::array<std::uint8_t, 4> colour,
+    LitGeometry& out);
+
+/// Appends a box of edge lengths `size` [m] (local x, y, z) centred at `centre`, its axes the
+/// columns of `rotation`, with flat faces.
+void append_box(const Vec3& centre, const Vec3& size, const Mat3& rotation,
+    std::array<std::uint8_t, 4> colour, LitGeometry& out);
+
 } // namespace polycut::render

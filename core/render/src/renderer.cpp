@@ -191,6 +191,24 @@ void Renderer::Impl::fill_lit(const DrawList& scene) {
     }
     lit.indices.assign(shaded.triangles.begin(), shaded.triangles.end());
 
+    const auto tool_colour = to_rgba8(config.tool_colour);
+    for (const Tool& tool : scene.tools) {
+        // Two-sided lighting makes the winding irrelevant; tools are drawn as they are.
+        switch (tool.kind) {
+        case Tool::Kind::Sphere:
+            append_sphere(tool.position, tool.radius, tool.rotation, tool_colour, lit);
+            break;
+        case Tool::Kind::Capsule: {
+            const Vec3 half = 0.5 * tool.length * tool.rotation.col(2);
+            append_capsule(
+                tool.position - half, tool.position + half, tool.radius, tool_colour, lit);
+            break;
+        }
+        case Tool::Kind::Box:
+            append_box(tool.position, tool.size, tool.rotation, tool_colour, lit);
+            break;
+        }
+    }
     if (!scene.blade && scene.arrows.empty())
         return;
     double radius = config.overlay_radius;
@@ -366,6 +384,14 @@ void Renderer::render(const DrawList& scene, const Camera& camera, Image& out) {
     for (std::size_t i = 0; i < scene.arrows.size(); ++i) {
         check_finite(scene.arrows[i].origin, "/arrows/" + std::to_string(i) + "/origin");
         check_finite(scene.arrows[i].vector, "/arrows/" + std::to_string(i) + "/vector");
+    }
+    for (std::size_t i = 0; i < scene.tools.size(); ++i) {
+        const Tool& t = scene.tools[i];
+        const std::string at = "/tools/" + std::to_string(i);
+        check_finite(t.position, at + "/position");
+        if (!t.rotation.allFinite() || !std::isfinite(t.radius) || !std::isfinite(t.length)
+            || !t.size.allFinite())
+            throw InputError(at, "not finite");
     }
 
     impl.timings.validate_ms = watch.ms();

@@ -330,6 +330,16 @@ std::size_t Simulation::tool_count() const {
     return m_impl->tools.size();
 }
 
+std::vector<std::pair<long, ToolSpec>> Simulation::tools() const {
+    std::vector<std::pair<long, ToolSpec>> out;
+    for (const auto& [id, t] : m_impl->tools) {
+        ToolSpec spec = t.spec;
+        spec.pose = t.stepped;
+        out.emplace_back(id, spec);
+    }
+    return out;
+}
+
 const std::vector<BodyReaction>& Simulation::contact_reactions() const {
     return m_impl->reactions;
 }

@@ -225,6 +225,7 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     model->set_fixed_dofs(node_fixed_mask);
     static_solved = false;
     sync_positions();
+    note_embedding_cut(report); // embedded.cpp: split the detailed surface where this cut went
     refresh_topology();
 }
 

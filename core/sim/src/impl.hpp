@@ -18,9 +18,14 @@ namespace polycut::contact {
 class ContactField; // contact.cpp and simulation.cpp see it whole
 struct Samples;
 } // namespace polycut::contact
+namespace polycut::contact {
+class TriangleMeshDistance; // embedded.cpp
+}
 namespace polycut::embed {
 struct Embedding; // embedded.cpp
-}
+struct SplitState;
+struct CutChange;
+} // namespace polycut::embed
 namespace polycut::meshing {
 class Octree; // octree_refine.cpp and simulation.cpp see it whole
 }
@@ -143,10 +148,25 @@ struct Simulation::Impl {
     // the cut lips of the mesh streamed with it.
     std::unique_ptr<embed::Embedding> embedded;
     std::vector<std::array<Index, 3>> embedded_triangles; ///< of the surface file
+    std::size_t embedded_loaded_vertices = 0; ///< its vertices: the first of `embedded->rest`
     std::uint64_t embedded_version = 0; ///< topology_version the embedding belongs to
     std::vector<Index> lip_vertex_nodes; ///< mesh node of each lip vertex
     std::vector<std::uint32_t> lip_triangles; ///< (#T x 3) into the lip vertices
     double embed_ms = 0; ///< wall time of the last (re-)embedding [ms]
+    /// Splitting the surface along the cuts (embed/split.hpp): what it keeps between cuts, the
+    /// loaded surface's inside test (rest space, made at the first cut), the cut being applied
+    /// (set by note_embedding_cut() for the refresh that follows it in the same call) and the
+    /// figures of the last split.
+    std::unique_ptr<embed::SplitState> embedded_split;
+    std::unique_ptr<contact::TriangleMeshDistance> embedded_inside;
+    const cut::CutReport* embedded_pending_cut = nullptr;
+    EmbeddedStats embedded_stats;
+    /// cut.cpp, after the mesh changed and before refresh_topology(): the report, so that the
+    /// embedded surface is split and re-embedded where this cut changed the mesh only.
+    void note_embedding_cut(const cut::CutReport& report);
+    /// Splits the embedding along the cut faces of `change` (all the mesh's Cut faces when
+    /// embedding anew); false if CGAL failed (the caller then embeds the surface unsplit).
+    bool split_embedded(const embed::CutChange& change);
     /// build(): reads and embeds the scene's surface (when it names one).
     void build_embedded();
     /// Embeds the surface in the current mesh again after a topology change (a cut); the lips

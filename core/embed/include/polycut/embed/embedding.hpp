@@ -26,6 +26,14 @@ struct Embedding {
     std::vector<Index> nodes;
     std::vector<double> weights;
     std::vector<Index> cells; ///< the cell each vertex is embedded in (#V)
+    /// Where each vertex is located (#V) [m]: its rest position, or, for a vertex on a cut
+    /// (split.hpp), a point a little into the material on its own side of the cut (both copies
+    /// of such a vertex share the rest position; the probe says which side's cell is theirs).
+    /// Empty: the rest positions.
+    std::vector<Vec3> probes;
+    /// Per triangle (#T): 1 for a lip (a triangle of the cut surface, tag 2), 0 for the skin.
+    /// Empty: all skin.
+    std::vector<std::uint8_t> lip;
     Index outside = 0; ///< vertices in no cell, embedded by their nearest cell's affine fit
     /// Largest distance of such a vertex from its cell's bounding box [m]
     double max_outside_distance = 0;
@@ -41,6 +49,16 @@ Embedding embed_surface(const mesh::Mesh& mesh, std::vector<Vec3> positions,
 /// (no triangles): e.g. the nodes of a refined mesh in the mesh before. Throws InputError for a
 /// mesh without cells.
 Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions, basis::PolyBasis poly);
+
+/// As above, but each point is located at `probes[i]` (same size) and its weights evaluated
+/// at `positions[i]` in that cell: a point on a cut face takes the cell on the probe's side.
+Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions,
+    const std::vector<Vec3>& probes, basis::PolyBasis poly);
+
+/// Embeds the listed vertices of `e` again in `mesh` (each located at its probe), keeping the
+/// others' weights: after a cut changed the cells they were in.
+void reembed(Embedding& e, const mesh::Mesh& mesh, const std::vector<std::uint32_t>& vertices,
+    basis::PolyBasis poly);
 
 /// World positions of the embedded vertices from the node positions (#N) [m], as float32
 /// (#V x 3), the layout of the surface stream.

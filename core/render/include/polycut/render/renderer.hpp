@@ -30,6 +30,7 @@ struct RenderConfig {
     Rgb line_colour { 0.15f, 0.17f, 0.20f }; ///< wireframe
     Rgb blade_colour { 0.78f, 0.80f, 0.84f }; ///< scalpel, steel
     Rgb arrow_colour { 0.20f, 0.62f, 0.95f }; ///< force arrows
+    Rgb tool_colour { 0.55f, 0.60f, 0.68f }; ///< rigid tools (probe, spatula, blade), steel
     /// Key light direction towards the light, in camera space (x right, y up, z towards the
     /// viewer): (0, 0, 1) is a pure headlight. A weaker fill light comes from the mirrored side.
     std::array<float, 3> light_direction { 0.3f, 0.45f, 1.0f };
@@ -70,12 +71,29 @@ struct Arrow {
     Vec3 vector; ///< [m]
 };
 
+/// A rigid tool (issue 15: probe tip, shaft, blade): a shape in its own frame, put in the world
+/// by `position` and `rotation` (columns: the tool frame's axes in the world).
+struct Tool {
+    enum class Kind {
+        Sphere, ///< ball of `radius` about the origin
+        Capsule, ///< `length` along local z centred at the origin, `radius` around it
+        Box, ///< edge lengths `size` [m] along local x, y, z, centred at the origin
+    };
+    Kind kind = Kind::Sphere;
+    Vec3 position = Vec3::Zero(); ///< [m]
+    Mat3 rotation = Mat3::Identity();
+    double radius = 0; ///< Sphere, Capsule [m]
+    double length = 0; ///< Capsule [m]
+    Vec3 size = Vec3::Zero(); ///< Box [m]
+};
+
 /// Everything drawn in one frame, as non-owning views.
 struct DrawList {
     SurfaceArrays surface; ///< the tissue surface
     std::span<const float> wire_edges; ///< (#E x 2 x 3) [m] segment end points, e.g. cell edges
     std::optional<Blade> blade; ///< scalpel, if any
     std::span<const Arrow> arrows; ///< force arrows
+    std::span<const Tool> tools; ///< rigid tools
 };
 
 /// Wall time of the phases of the last Renderer::render call [ms]. Without

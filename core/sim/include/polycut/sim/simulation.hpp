@@ -122,6 +122,20 @@ struct Energy {
     double total() const { return kinetic + elastic + gravity; }
 };
 
+/// The embedded surface (scene key `embedded`) and what the last cut did to it.
+struct EmbeddedStats {
+    std::size_t vertices = 0, triangles = 0; ///< of the published surface, lips included
+    std::size_t lip_triangles = 0; ///< tag 2 triangles (both sides of every cut)
+    bool split = true; ///< the skin is split along the cuts (false after a CGAL failure)
+    double embed_ms = 0; ///< wall time of the last (re-)embedding after a topology change [ms]
+    double split_ms = 0; ///< of which splitting along the cut [ms]
+    double corefine_ms = 0; ///< of which CGAL corefinement [ms]
+    std::size_t patch_triangles = 0; ///< skin triangles the last split corefined
+    std::size_t cut_triangles = 0; ///< cut-surface triangles it corefined them with
+    std::size_t reembedded = 0; ///< vertices the last update embedded again
+    bool full = false; ///< the last update embedded the whole surface anew (load, undo)
+};
+
 /// Sizes of what a scene built, for cost reports (issue 17 item 1).
 struct ModelStats {
     Index dofs = 0; ///< 3 x the nodes used by cells
@@ -202,6 +216,9 @@ public:
     bool move_tool(long id, const ToolPose& pose);
     bool remove_tool(long id);
     std::size_t tool_count() const;
+    /// Every tool by id, its shape with the pose it had during the last step (what a renderer
+    /// draws beside the surface of that step).
+    std::vector<std::pair<long, ToolSpec>> tools() const;
     /// The reaction on every tool and obstacle in the state after the last step (tools first,
     /// by id; then obstacles in scene order). Empty when the scene has neither.
     const std::vector<BodyReaction>& contact_reactions() const;
@@ -237,6 +254,8 @@ public:
     /// Displacement [m] at a named probe (interpolated in the cell that contains it).
     Vec3 probe_displacement(const std::string& name) const;
     MeshStats mesh_stats() const;
+    /// The embedded surface's figures (all zero without one).
+    EmbeddedStats embedded_stats() const;
     /// Kinetic, elastic and gravitational energy of the current state.
     Energy energy() const;
     /// DOFs, nonzeros and cells by kind of the current model.

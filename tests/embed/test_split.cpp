@@ -1,0 +1,251 @@
+// Splitting the embedded surface along a cut (issue 15 item 2, decision 0033): a sphere embedded
+// in a hex or polyhedral box that the cutter splits along a plane. After the split the surface
+// is closed and consistently oriented (every directed edge once, its reverse once), encloses the
+// sphere's volume, its lips (tag 2) lie in the cut plane, a vertex on the cut is embedded on its
+// own side, and affine motions of the nodes still move every vertex exactly.
+#include "polycut/contact/triangle_mesh_distance.hpp"
+#include "polycut/cut/cutter.hpp"
+#include "polycut/embed/split.hpp"
+#include "polycut/mesh/builders.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <gtest/gtest.h>
+#include <map>
+#include <numeric>
+
+using namespace polycut;
+
+namespace {
+void uv_sphere(const Vec3& c, double radius, int rings, int segments, std::vector<Vec3>& v,
+    std::vector<std::array<Index, 3>>& t) {
+    constexpr double pi = 3.14159265358979323846;
+    v.push_back(c + Vec3(0, 0, radius));
+    for (int i = 1; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const double th = pi * i / rings, ph = 2 * pi * j / segments;
+            v.push_back(c
+                + radius
+                    * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
+        }
+    v.push_back(c - Vec3(0, 0, radius));
+    const Index south = Index(v.size() - 1);
+    auto ring = [&](int i, int j) { return Index(1 + (i - 1) * segments + (j % segments)); };
+    for (int j = 0; j < segments; ++j) {
+        t.push_back({ 0, ring(1, j), ring(1, j + 1) });
+        t.push_back({ south, ring(rings - 1, j + 1), ring(rings - 1, j) });
+        for (int i = 1; i + 1 < rings; ++i) {
+            t.push_back({ ring(i, j), ring(i + 1, j), ring(i + 1, j + 1) });
+            t.push_back({ ring(i, j), ring(i + 1, j + 1), ring(i, j + 1) });
+        }
+    }
+}
+
+/// Directed edges that do not appear exactly once with their reverse exactly once.
+int open_edges(const std::vector<std::uint32_t>& tri) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
+    for (std::size_t t = 0; t < tri.size(); t += 3)
+        for (int k = 0; k < 3; ++k)
+            ++count[{ tri[t + std::size_t(k)], tri[t + std::size_t((k + 1) % 3)] }];
+    int bad = 0;
+    for (const auto& [e, n] : count) {
+        const auto it = count.find({ e.second, e.first });
+        bad += n != 1 || it == count.end() || it->second != 1;
+    }
+    return bad;
+}
+
+/// Enclosed volume (divergence theorem) of triangles over points.
+double volume(const std::vector<Vec3>& p, const std::vector<std::uint32_t>& tri) {
+    double v = 0;
+    for (std::size_t t = 0; t < tri.size(); t += 3)
+        v += p[tri[t]].dot(p[tri[t + 1]].cross(p[tri[t + 2]])) / 6.0;
+    return v;
+}
+
+struct Fixture {
+    mesh::Mesh mesh;
+    std::vector<Vec3> sphere;
+    std::vector<std::array<Index, 3>> triangles;
+    std::unique_ptr<contact::TriangleMeshDistance> inside;
+    double sphere_volume = 0;
+    embed::Embedding e;
+    embed::SplitState state;
+    std::vector<Index> cut_faces;
+    basis::PolyBasis poly = basis::PolyBasis::MeanValue;
+
+    explicit Fixture(int kind) {
+        mesh::BoxGrid g;
+        g.lo = Vec3(-0.02, -0.02, 0);
+        g.hi = Vec3(0.02, 0.02, 0.04);
+        g.cells = Eigen::Vector3i(4, 4, 4);
+        mesh = kind == 0 ? mesh::hex_grid(g) : mesh::merged_hex_grid(g, 0.6, 3);
+        uv_sphere(Vec3(0, 0, 0.02), 0.019, 24, 48, sphere, triangles);
+        inside = std::make_unique<contact::TriangleMeshDistance>(sphere, triangles);
+        sphere_volume = inside->volume();
+        e = embed::embed_surface(mesh, sphere, triangles, poly);
+    }
+    /// Cuts the mesh along the plane y = y0 from z = z0 up, then splits the surface.
+    embed::SplitReport cut(double y0, double z0) {
+        const std::vector<cut::Triangle> blade { { Vec3(-0.03, y0, 0.05), Vec3(0.03, y0, 0.05),
+                                                     Vec3(-0.03, y0, z0) },
+            { Vec3(0.03, y0, 0.05), Vec3(0.03, y0, z0), Vec3(-0.03, y0, z0) } };
+        const cut::CutReport r = cut::cut_rest(mesh, blade);
+        EXPECT_TRUE(r.topology_changed);
+        cut_faces = r.cut_faces;
+        // Vertices in the cells the cut changed, as the simulation passes them.
+        std::vector<std::uint32_t> moved;
+        for (std::size_t v = 0; v < e.cells.size(); ++v) {
+            Index c = e.cells[v];
+            if (!r.cell_map.empty())
+                c = e.cells[v] = r.cell_map[std::size_t(c)];
+            if (c == kNone || std::binary_search(r.changed_cells.begin(), r.changed_cells.end(), c))
+                moved.push_back(std::uint32_t(v));
+        }
+        return split({ r.cut_faces, r.duplicated, moved });
+    }
+    embed::SplitReport split(const embed::CutChange& change) {
+        return embed::split_along_cut(
+            e, state, mesh, change,
+            [&](const Vec3& X) {
+                Vec3 n;
+                return inside->signed_distance(X, n) < 0;
+            },
+            poly);
+    }
+    std::vector<Vec3> deformed(const std::vector<Vec3>& x) const {
+        std::vector<Vec3> out;
+        for (std::size_t v = 0; v < e.rest.size(); ++v)
+            out.push_back(embed::deformed_vertex(e, x, v));
+        return out;
+    }
+};
+
+class Split : public ::testing::TestWithParam<int> { };
+} // namespace
+
+TEST_P(Split, LipsAreClosedFlatAndTaggedAndTheVolumeIsKept) {
+    Fixture f(GetParam());
+    const std::size_t skin_before = f.e.triangles.size() / 3;
+    const embed::SplitReport r = f.cut(0.001, 0.021);
+    EXPECT_GT(r.cut_triangles, 0u);
+    EXPECT_GT(r.lip_triangles_added, 0u);
+    // Local: only triangles near the cut were corefined.
+    EXPECT_LT(r.patch_triangles, skin_before / 2);
+    ASSERT_EQ(f.e.lip.size(), f.e.triangles.size() / 3);
+    EXPECT_EQ(open_edges(f.e.triangles), 0);
+    // Zero-thickness lips on both sides: the enclosed volume is the sphere's (rounding only).
+    EXPECT_NEAR(volume(f.e.rest, f.e.triangles), f.sphere_volume, 1e-12 * f.sphere_volume);
+    double lip_area = 0;
+    for (std::size_t t = 0; t < f.e.lip.size(); ++t) {
+        if (!f.e.lip[t])
+            continue;
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(f.e.rest[f.e.triangles[3 * t + std::size_t(k)]].y(), 0.001, 1e-12);
+        const Vec3 &a = f.e.rest[f.e.triangles[3 * t]], &b = f.e.rest[f.e.triangles[3 * t + 1]],
+                   &c = f.e.rest[f.e.triangles[3 * t + 2]];
+        lip_area += 0.5 * (b - a).cross(c - a).norm();
+    }
+    // Both lips: twice the sphere's section above the cut's front. The front lies within the
+    // cell layer z in [0.02, 0.03] (where the cutter ends the crack), so the section lies
+    // between the disc segment above z = 0.03 and the one above z = 0.02 (radius of the
+    // section circle rho = sqrt(r^2 - y0^2)).
+    const double rho = std::sqrt(0.019 * 0.019 - 0.001 * 0.001);
+    auto segment = [&](double h) { // area of the disc of radius rho above a chord at height h
+        return rho * rho * std::acos(h / rho) - h * std::sqrt(rho * rho - h * h);
+    };
+    EXPECT_GT(lip_area, 2 * segment(0.01) * 0.98);
+    EXPECT_LT(lip_area, 2 * segment(0.0) * 1.001);
+}
+
+TEST_P(Split, AVertexOnTheCutFollowsItsOwnSide) {
+    Fixture f(GetParam());
+    f.cut(0.001, 0.021);
+    // Every vertex on the cut plane embedded in a cell that lies wholly on one side: that side
+    // is its probe's side.
+    int checked = 0;
+    for (std::size_t v = 0; v < f.e.rest.size(); ++v) {
+        if (std::abs(f.e.rest[v].y() - 0.001) > 1e-12)
+            continue;
+        double lo = 1, hi = -1;
+        for (const Index n : f.mesh.cells[std::size_t(f.e.cells[v])].nodes) {
+            lo = std::min(lo, f.mesh.rest[std::size_t(n)].y() - 0.001);
+            hi = std::max(hi, f.mesh.rest[std::size_t(n)].y() - 0.001);
+        }
+        if (lo < -1e-12 && hi > 1e-12)
+            continue; // a cell the cut did not reach
+        const double side = f.e.probes[v].y() - 0.001;
+        ASSERT_NE(side, 0.0) << v;
+        EXPECT_EQ(side > 0, hi > 1e-12) << v;
+        ++checked;
+    }
+    EXPECT_GT(checked, 50);
+    // Pulling the +y side's nodes 2 mm away opens the cut: every vertex moves by 0 or 2 mm in y
+    // as its cell's side says, so the skin does not stretch across the opening.
+    std::vector<Vec3> x = f.mesh.rest;
+    std::vector<char> plus(x.size(), 0), minus(x.size(), 0);
+    for (const auto& cell : f.mesh.cells) {
+        Vec3 c = Vec3::Zero();
+        for (const Index n : cell.nodes)
+            c += f.mesh.rest[std::size_t(n)] / double(cell.nodes.size());
+        for (const Index n : cell.nodes)
+            (c.y() > 0.001 ? plus : minus)[std::size_t(n)] = 1;
+    }
+    for (std::size_t n = 0; n < x.size(); ++n)
+        if (plus[n] && !minus[n])
+            x[n].y() += 0.002;
+    const std::vector<Vec3> moved = f.deformed(x);
+    int opened = 0;
+    for (std::size_t v = 0; v < f.e.rest.size(); ++v) {
+        if (std::abs(f.e.rest[v].y() - 0.001) > 1e-12 || f.e.rest[v].z() < 0.031)
+            continue; // above z = 0.031 every cell is cut through: the two lips part
+        const double dy = moved[v].y() - f.e.rest[v].y();
+        EXPECT_NEAR(dy, f.e.probes[v].y() > 0.001 ? 0.002 : 0.0, 1e-9) << v;
+        ++opened;
+    }
+    EXPECT_GT(opened, 20);
+}
+
+TEST_P(Split, AffineMotionsStayExactAfterTheSplit) {
+    Fixture f(GetParam());
+    f.cut(0.001, 0.021);
+    Mat3 A;
+    A << 1.1, 0.2, -0.1, 0.05, 0.9, 0.3, -0.2, 0.1, 1.2;
+    const Vec3 b(0.01, -0.02, 0.03);
+    std::vector<Vec3> x;
+    for (const Vec3& X : f.mesh.rest)
+        x.push_back(A * X + b);
+    const std::vector<Vec3> moved = f.deformed(x);
+    double worst = 0;
+    for (std::size_t v = 0; v < f.e.rest.size(); ++v)
+        worst = std::max(worst, (moved[v] - (A * f.e.rest[v] + b)).norm());
+    EXPECT_LT(worst, 1e-12);
+}
+
+TEST_P(Split, ACutCarriedOnDeeperKeepsTheSurfaceClosed) {
+    // A progressive stroke: the same plane again from z = 0.011 up (the blade went deeper), so
+    // the new Cut faces adjoin the first cut's front and separate its nodes. The lips of both
+    // cuts join, the surface stays closed and oriented, and affine motions stay exact.
+    Fixture f(GetParam());
+    f.cut(0.001, 0.021);
+    const std::size_t lips_before = std::size_t(std::count(f.e.lip.begin(), f.e.lip.end(), 1));
+    const embed::SplitReport s = f.cut(0.001, 0.011);
+    EXPECT_GT(s.lip_triangles_added, 0u);
+    EXPECT_GT(std::size_t(std::count(f.e.lip.begin(), f.e.lip.end(), 1)), lips_before);
+    EXPECT_EQ(open_edges(f.e.triangles), 0);
+    EXPECT_NEAR(volume(f.e.rest, f.e.triangles), f.sphere_volume, 1e-12 * f.sphere_volume);
+    std::vector<Vec3> x;
+    for (const Vec3& X : f.mesh.rest)
+        x.push_back(Vec3(0.9 * X.x() + 0.1 * X.z(), X.y() + 0.2 * X.x(), 1.1 * X.z()));
+    const std::vector<Vec3> moved = f.deformed(x);
+    for (std::size_t v = 0; v < f.e.rest.size(); ++v) {
+        const Vec3& X = f.e.rest[v];
+        ASSERT_LT(
+            (moved[v] - Vec3(0.9 * X.x() + 0.1 * X.z(), X.y() + 0.2 * X.x(), 1.1 * X.z())).norm(),
+            1e-12)
+            << v;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Embed, Split, ::testing::Values(0, 1),
+    [](const ::testing::TestParamInfo<int>& i) { return i.param == 0 ? "Q1" : "MeanValue"; });
