@@ -54,9 +54,11 @@ TriangleSet from_cgal(const SMesh& m) {
     TriangleSet out;
     out.points.reserve(m.number_of_vertices());
     for (const auto v : m.vertices()) {
+        // Rounded from the exact value: two meshes holding the same exact point (a crossing)
+        // get the same doubles, however far each lazy number's approximation was refined.
         const Point& p = m.point(v);
-        out.points.emplace_back(
-            CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+        out.points.emplace_back(CGAL::to_double(CGAL::exact(p.x())),
+            CGAL::to_double(CGAL::exact(p.y())), CGAL::to_double(CGAL::exact(p.z())));
     }
     const OriginMap origin = m.property_map<Face, std::uint32_t>("f:origin").first;
     for (const auto f : m.faces()) {

@@ -471,12 +471,34 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
         e.lip = std::move(lip);
     }
 
-    // 5. Lips: the cut inside the loaded surface, once per side.
-    std::vector<std::array<Vec3, 3>> old_lips;
-    for (std::size_t t = 0; t < e.lip.size(); ++t)
-        if (e.lip[t])
-            old_lips.push_back({ e.rest[e.triangles[3 * t]], e.rest[e.triangles[3 * t + 1]],
-                e.rest[e.triangles[3 * t + 2]] });
+    // 5. Lips: the cut inside the loaded surface, once per side. Lips an earlier cut made on
+    // these polygons (a Cut face that grew by merging with a new one) are made again.
+    {
+        std::vector<std::uint32_t> triangles;
+        std::vector<std::uint8_t> lip;
+        for (std::size_t t = 0; t < e.lip.size(); ++t) {
+            if (e.lip[t]) {
+                const Vec3 centroid = (e.rest[e.triangles[3 * t]] + e.rest[e.triangles[3 * t + 1]]
+                                          + e.rest[e.triangles[3 * t + 2]])
+                    / 3.0;
+                bool on_cut = false;
+                for (std::size_t c = 0; c < cut.triangles.size() && !on_cut; ++c) {
+                    const auto& tri = cut.triangles[c];
+                    on_cut = on_triangle(
+                        centroid, cut.points[tri[0]], cut.points[tri[1]], cut.points[tri[2]], 1e-9);
+                }
+                if (on_cut) {
+                    ++report.lips_remade;
+                    continue;
+                }
+            }
+            for (int k = 0; k < 3; ++k)
+                triangles.push_back(e.triangles[3 * t + std::size_t(k)]);
+            lip.push_back(e.lip[t]);
+        }
+        e.triangles = std::move(triangles);
+        e.lip = std::move(lip);
+    }
     std::map<std::pair<Key, Index>, std::uint32_t> loose; // lip corners on neither (rare)
     const detail::TriangleSet& rc = refined.cut;
     for (std::size_t t = 0; t < rc.triangles.size(); ++t) {
@@ -488,10 +510,6 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
         const Vec3 centroid = (a + b + c) / 3.0;
         if (!inside(centroid))
             continue;
-        const bool done = std::any_of(old_lips.begin(), old_lips.end(),
-            [&](const auto& l) { return on_triangle(centroid, l[0], l[1], l[2], 1e-9); });
-        if (done)
-            continue; // a region an earlier cut already closed (a Cut face that grew)
         for (const Index f : polygons[cut_polygon[rc.origin[t]]].faces) {
             const mesh::Face& face = mesh.faces[std::size_t(f)];
             std::vector<Vec3> loop;

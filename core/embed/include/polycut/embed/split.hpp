@@ -32,6 +32,7 @@ struct SplitReport {
     std::size_t skin_triangles_added = 0; ///< net change of the skin's triangle count
     std::size_t vertices_added = 0; ///< copies on the cut, lip vertices
     std::size_t lip_triangles_added = 0; ///< both sides
+    std::size_t lips_remade = 0; ///< earlier lip triangles on the cut faces, made again
     std::size_t reembedded = 0; ///< vertices embedded again
     double corefine_ms = 0; ///< CGAL corefinement [ms]
     double total_ms = 0; ///< the whole call [ms]
@@ -46,11 +47,11 @@ struct CutChange {
     std::vector<std::uint32_t> reembed; ///< vertices to embed again (their cells changed)
 };
 
-/// Splits `e` along `change.cut_faces` of `mesh` (a region the surface was already split along
-/// is skipped) and embeds the vertices it made or regrouped, and `change.reembed`, in `mesh`.
-/// `inside(X)` says whether a rest point lies inside the detailed surface as it was loaded
-/// (the lips are the part of the cut inside it). Throws polycut::Error when CGAL cannot
-/// corefine (then the surface's triangles are unchanged).
+/// Splits `e` along `change.cut_faces` of `mesh` (the lips of a region an earlier cut closed are
+/// made again when a Cut face there grew) and embeds the vertices it made or regrouped, and
+/// `change.reembed`, in `mesh`. `inside(X)` says whether a rest point lies inside the detailed
+/// surface as it was loaded (the lips are the part of the cut inside it). Throws polycut::Error
+/// when CGAL cannot corefine (the caller then embeds the surface anew, unsplit).
 SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& mesh,
     const CutChange& change, const std::function<bool(const Vec3&)>& inside, basis::PolyBasis poly);
 
