@@ -93,10 +93,16 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
             .cells_before = summary.cells_before };
         return;
     }
-    // Until the next step shows the cut model is sound, the state before the first cut of this
-    // tick stays at hand (Simulation::step undoes the cut when that step fails).
-    if (summary.topology_changed && !cut_undo)
-        cut_undo = std::make_unique<Snapshot>(std::move(before)); // before's buffers move along
+    // Until the next step shows the cut model is sound, the state before this cut stays at hand
+    // (Simulation::step undoes the cut when that step fails). The pipeline's undo mirror holds
+    // the mesh before the last call that changed it, so the state kept is that of the same
+    // moment: of two cuts in one tick, a failing step undoes the second.
+    if (summary.topology_changed) {
+        std::unique_ptr<Snapshot> kept = std::make_unique<Snapshot>(std::move(before));
+        if (cut_undo)
+            spare = std::move(cut_undo);
+        cut_undo = std::move(kept);
+    }
 }
 
 void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
@@ -238,21 +244,20 @@ std::unique_ptr<Simulation::Impl::Snapshot> Simulation::Impl::take_snapshot() {
     snap->swept_area = swept_area;
     snap->topology = topology;
     snap->topology_version = topology_version;
-    mesh::pack(mesh, snap->mesh);
-    return snap;
+    return snap; // the mesh: the cut pipeline's undo mirror (CutPipeline::undo)
 }
 
 void Simulation::Impl::restore(const Snapshot& snap, bool published) {
-    mesh = mesh::unpack(snap.mesh);
+    if (!cutting)
+        throw Error("cut", "the mesh before the cut is no longer known");
+    // The cutters' adjacency and remembered sweeps refer to the failed edit: undo() forgets them.
+    cutting->undo();
     state = snap.state;
     node_fixed_mask = snap.node_fixed_mask;
     scene_forces = snap.scene_forces;
     forces = snap.forces;
     grabs = snap.grabs;
     swept_area = snap.swept_area;
-    // The cutters' adjacency and remembered sweeps refer to the failed edit: start them afresh.
-    if (cutting)
-        cutting->forget();
     if (dg) {
         dg = make_dg_part(scene, mesh); // the restored mesh's cells, in their old order
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));

@@ -1,0 +1,116 @@
+// cut::detail::UndoJournal: the mirror of the mesh before the last cut (see undo_journal.hpp).
+#include "undo_journal.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+namespace polycut::cut::detail {
+namespace {
+bool checks_requested() {
+#ifndef NDEBUG
+    return true;
+#else
+    const char* v = std::getenv("POLYCUT_CHECK_UNDO");
+    return v != nullptr && v[0] != '\0' && v[0] != '0';
+#endif
+}
+
+template <class T> void grow_from(std::vector<T>& to, const std::vector<T>& from, std::size_t n0) {
+    to.resize(from.size());
+    for (std::size_t i = std::min(n0, from.size()); i < from.size(); ++i)
+        to[i] = from[i];
+}
+} // namespace
+
+UndoJournal::UndoJournal(const mesh::Mesh& mesh)
+    : m_mirror(mesh)
+    , m_check(checks_requested()) { }
+
+void UndoJournal::record(const CutReport& r, const mesh::Mesh& mesh) {
+    if (!r.topology_changed && r.moved_nodes.empty())
+        return;
+    m_pending = true;
+    // Renumbering calls: ids in the report are after a compaction of cells, faces or nodes, so
+    // every later element may have moved (face parents too).
+    if (r.faces_renumbered || !r.cell_map.empty() || !r.node_map.empty() || r.slivers_merged > 0
+        || r.cut_faces_merged > 0 || !r.removed_cells.empty() || !r.removed_nodes.empty()
+        || mesh.faces.size() < m_mirror.faces.size() || mesh.cells.size() < m_mirror.cells.size()
+        || mesh.rest.size() < m_mirror.rest.size())
+        m_whole_pending = true;
+    if (m_whole_pending)
+        return;
+    m_cells.insert(m_cells.end(), r.changed_cells.begin(), r.changed_cells.end());
+    for (const auto& [node, old_rest] : r.moved_nodes)
+        m_nodes.push_back(node);
+}
+
+void UndoJournal::commit(const mesh::Mesh& mesh) {
+    if (!m_pending)
+        return;
+    ++m_commits;
+    if (m_whole_pending) {
+        ++m_whole;
+        m_mirror = mesh; // element-wise assignment: the mirror's vectors keep their capacity
+    } else {
+        const std::size_t f0 = m_mirror.faces.size();
+        grow_from(m_mirror.rest, mesh.rest, m_mirror.rest.size());
+        grow_from(m_mirror.faces, mesh.faces, f0);
+        grow_from(m_mirror.cells, mesh.cells, m_mirror.cells.size());
+        for (Index n : m_nodes)
+            if (n >= 0 && std::size_t(n) < mesh.rest.size())
+                m_mirror.rest[std::size_t(n)] = mesh.rest[std::size_t(n)];
+        // A face a cut rewrites (split, a node inserted on one of its edges, a new owner or
+        // neighbour, a new tag) belongs to a cell the cut changed on both of its sides.
+        for (Index c : m_cells) {
+            if (c < 0 || std::size_t(c) >= mesh.cells.size())
+                continue;
+            const mesh::Cell& cell = mesh.cells[std::size_t(c)];
+            m_mirror.cells[std::size_t(c)] = cell;
+            for (Index f : cell.faces)
+                if (std::size_t(f) < f0)
+                    m_mirror.faces[std::size_t(f)] = mesh.faces[std::size_t(f)];
+        }
+    }
+    m_pending = m_whole_pending = false;
+    m_cells.clear();
+    m_nodes.clear();
+    if (m_check)
+        require_equal_meshes(m_mirror, mesh);
+}
+
+void UndoJournal::undo(mesh::Mesh& mesh) {
+    mesh = m_mirror;
+    m_pending = m_whole_pending = false;
+    m_cells.clear();
+    m_nodes.clear();
+}
+
+void require_equal_meshes(const mesh::Mesh& a, const mesh::Mesh& b) {
+    auto fail = [](const std::string& what) {
+        throw std::logic_error("undo journal: the mirror differs from the mesh at " + what);
+    };
+    if (a.rest.size() != b.rest.size())
+        fail("the node count");
+    for (std::size_t i = 0; i < a.rest.size(); ++i)
+        if (a.rest[i] != b.rest[i])
+            fail("node " + std::to_string(i));
+    if (a.faces.size() != b.faces.size())
+        fail("the face count");
+    for (std::size_t f = 0; f < a.faces.size(); ++f) {
+        const mesh::Face &x = a.faces[f], &y = b.faces[f];
+        if (x.nodes != y.nodes || x.owner != y.owner || x.neighbour != y.neighbour || x.tag != y.tag
+            || x.parent != y.parent)
+            fail("face " + std::to_string(f));
+    }
+    if (a.cells.size() != b.cells.size())
+        fail("the cell count");
+    for (std::size_t c = 0; c < a.cells.size(); ++c) {
+        const mesh::Cell &x = a.cells[c], &y = b.cells[c];
+        if (x.nodes != y.nodes || x.faces != y.faces || x.shape != y.shape || x.parent != y.parent)
+            fail("cell " + std::to_string(c));
+    }
+}
+
+} // namespace polycut::cut::detail
