@@ -281,6 +281,11 @@ double CutPipeline::cell_size() const {
     return m_impl->cell_size;
 }
 
+void CutPipeline::prepare() {
+    m_impl->ensure_cutter();
+    m_impl->rest_cells();
+}
+
 void CutPipeline::undo() {
     Impl& s = *m_impl;
     s.journal.undo(s.mesh);

@@ -17,7 +17,26 @@ bool checks_requested() {
 #endif
 }
 
+/// to = from, element by element: each element's own vectors keep their capacity, so a whole
+/// copy of a mesh into one of about its size allocates nothing (a vector's operator= copies
+/// into fresh elements whenever it must grow, and every cut grows the mesh).
+template <class T> void assign_elementwise(std::vector<T>& to, const std::vector<T>& from) {
+    if (to.capacity() < from.size())
+        to.reserve(from.size() + from.size() / 8 + 64);
+    to.resize(from.size());
+    for (std::size_t i = 0; i < from.size(); ++i)
+        to[i] = from[i];
+}
+
+void assign_elementwise(mesh::Mesh& to, const mesh::Mesh& from) {
+    assign_elementwise(to.rest, from.rest);
+    assign_elementwise(to.faces, from.faces);
+    assign_elementwise(to.cells, from.cells);
+}
+
 template <class T> void grow_from(std::vector<T>& to, const std::vector<T>& from, std::size_t n0) {
+    if (to.capacity() < from.size())
+        to.reserve(from.size() + from.size() / 8 + 64);
     to.resize(from.size());
     for (std::size_t i = std::min(n0, from.size()); i < from.size(); ++i)
         to[i] = from[i];
@@ -52,7 +71,7 @@ void UndoJournal::commit(const mesh::Mesh& mesh) {
     ++m_commits;
     if (m_whole_pending) {
         ++m_whole;
-        m_mirror = mesh; // element-wise assignment: the mirror's vectors keep their capacity
+        assign_elementwise(m_mirror, mesh);
     } else {
         const std::size_t f0 = m_mirror.faces.size();
         grow_from(m_mirror.rest, mesh.rest, m_mirror.rest.size());
@@ -81,7 +100,7 @@ void UndoJournal::commit(const mesh::Mesh& mesh) {
 }
 
 void UndoJournal::undo(mesh::Mesh& mesh) {
-    mesh = m_mirror;
+    assign_elementwise(mesh, m_mirror);
     m_pending = m_whole_pending = false;
     m_cells.clear();
     m_nodes.clear();

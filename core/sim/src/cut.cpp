@@ -28,14 +28,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
         summary.triangles_deferred = int(world.size());
         return summary;
     }
-    if (!s.cutting) {
-        cut::PipelineOptions opt;
-        opt.method
-            = s.scene.cutting.method == "snap" ? cut::CutMethod::Snap : cut::CutMethod::Split;
-        opt.split.snap = s.scene.cutting.snap_distance;
-        opt.split.sliver_volume = s.scene.cutting.sliver_volume;
-        s.cutting = std::make_unique<cut::CutPipeline>(s.mesh, s.initial_mesh, opt);
-    }
+    s.ensure_cutting();
     std::unique_ptr<Impl::Snapshot> before;
     cut::CutResult result = s.cutting->cut(
         world, s.positions, budget > 0 ? s.cut_cells_left : 0, [&] { before = s.take_snapshot(); },
@@ -63,6 +56,21 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
     if (before)
         s.spare = std::move(before);
     return summary;
+}
+
+void Simulation::Impl::ensure_cutting() {
+    if (cutting)
+        return;
+    cut::PipelineOptions opt;
+    opt.method = scene.cutting.method == "snap" ? cut::CutMethod::Snap : cut::CutMethod::Split;
+    opt.split.snap = scene.cutting.snap_distance;
+    opt.split.sliver_volume = scene.cutting.sliver_volume;
+    cutting = std::make_unique<cut::CutPipeline>(mesh, initial_mesh, opt);
+}
+
+void Simulation::prepare_cutting() {
+    m_impl->ensure_cutting();
+    m_impl->cutting->prepare();
 }
 
 void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, Snapshot& before) {

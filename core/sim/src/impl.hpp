@@ -67,6 +67,8 @@ struct Simulation::Impl {
     std::unique_ptr<integrate::Integrator> integrator;
     /// World sweep triangles to cuts (core/cut's one pipeline; made on the first cut).
     std::unique_ptr<cut::CutPipeline> cutting;
+    /// Makes `cutting` for the current mesh if there is none.
+    void ensure_cutting();
     /// Cells the cuts of this tick may still change (scene cutting.max_cells_per_tick; reset
     /// by step()); the triangles past it are deferred to the next tick.
     Index cut_cells_left = 0;

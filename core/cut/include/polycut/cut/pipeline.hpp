@@ -98,6 +98,9 @@ public:
     /// How many calls were mirrored by a whole copy of the mesh (calls that renumbered cells,
     /// faces or nodes); the others copied only what they changed.
     std::uint64_t whole_mesh_copies() const;
+    /// Builds the cutter (its adjacency and caches) and the grid of the uncut mesh now, so the
+    /// first call does not pay for them.
+    void prepare();
     /// Forgets everything derived from the mesh (after the caller restored it).
     void forget();
     /// Mean cell size of the uncut mesh [m]: the cube root of its mean cell volume.
