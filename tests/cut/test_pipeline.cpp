@@ -233,6 +233,17 @@ TEST_P(Pipeline, UndoGivesBackTheMeshBeforeTheLastCallExactly) {
         }
         p.end_stroke();
     }
+    // undo_all(): back to the last accept(), across several calls (the server's failed step).
+    p.accept();
+    const mesh::Mesh accepted = m;
+    for (double y : { 0.3, 0.7 }) {
+        const std::vector<Triangle> sweep { { Vec3(-0.2, y, 1.2), Vec3(-0.2, y, 0.5),
+            Vec3(1.2, y, 1.2) } };
+        ASSERT_TRUE(p.cut(sweep, m.rest).ok());
+    }
+    p.end_stroke();
+    p.undo_all();
+    expect_same_mesh(m, accepted);
     ::unsetenv("POLYCUT_CHECK_UNDO");
     EXPECT_GE(undone, 5);
     InvariantOptions io;

@@ -292,6 +292,16 @@ void CutPipeline::undo() {
     forget();
 }
 
+void CutPipeline::accept() {
+    m_impl->journal.accept(m_impl->mesh);
+}
+
+void CutPipeline::undo_all() {
+    Impl& s = *m_impl;
+    s.journal.undo_all(s.mesh);
+    forget();
+}
+
 std::uint64_t CutPipeline::whole_mesh_copies() const {
     return m_impl->journal.whole_copies();
 }

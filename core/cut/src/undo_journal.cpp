@@ -43,11 +43,7 @@ template <class T> void grow_from(std::vector<T>& to, const std::vector<T>& from
 }
 } // namespace
 
-UndoJournal::UndoJournal(const mesh::Mesh& mesh)
-    : m_mirror(mesh)
-    , m_check(checks_requested()) { }
-
-void UndoJournal::record(const CutReport& r, const mesh::Mesh& mesh) {
+void Mirror::record(const CutReport& r, const mesh::Mesh& mesh) {
     if (!r.topology_changed && r.moved_nodes.empty())
         return;
     m_pending = true;
@@ -55,8 +51,8 @@ void UndoJournal::record(const CutReport& r, const mesh::Mesh& mesh) {
     // every later element may have moved (face parents too).
     if (r.faces_renumbered || !r.cell_map.empty() || !r.node_map.empty() || r.slivers_merged > 0
         || r.cut_faces_merged > 0 || !r.removed_cells.empty() || !r.removed_nodes.empty()
-        || mesh.faces.size() < m_mirror.faces.size() || mesh.cells.size() < m_mirror.cells.size()
-        || mesh.rest.size() < m_mirror.rest.size())
+        || mesh.faces.size() < m_mesh.faces.size() || mesh.cells.size() < m_mesh.cells.size()
+        || mesh.rest.size() < m_mesh.rest.size())
         m_whole_pending = true;
     if (m_whole_pending)
         return;
@@ -65,45 +61,83 @@ void UndoJournal::record(const CutReport& r, const mesh::Mesh& mesh) {
         m_nodes.push_back(node);
 }
 
-void UndoJournal::commit(const mesh::Mesh& mesh) {
-    if (!m_pending)
-        return;
-    ++m_commits;
-    if (m_whole_pending) {
-        ++m_whole;
-        assign_elementwise(m_mirror, mesh);
+bool Mirror::sync(const mesh::Mesh& mesh) {
+    // Lists from calls later undone are harmless: copying an element that did not change (or
+    // changed back) copies the value it has.
+    const bool whole = m_whole_pending || mesh.faces.size() < m_mesh.faces.size()
+        || mesh.cells.size() < m_mesh.cells.size() || mesh.rest.size() < m_mesh.rest.size();
+    if (whole) {
+        assign_elementwise(m_mesh, mesh);
     } else {
-        const std::size_t f0 = m_mirror.faces.size();
-        grow_from(m_mirror.rest, mesh.rest, m_mirror.rest.size());
-        grow_from(m_mirror.faces, mesh.faces, f0);
-        grow_from(m_mirror.cells, mesh.cells, m_mirror.cells.size());
+        const std::size_t f0 = m_mesh.faces.size();
+        grow_from(m_mesh.rest, mesh.rest, m_mesh.rest.size());
+        grow_from(m_mesh.faces, mesh.faces, f0);
+        grow_from(m_mesh.cells, mesh.cells, m_mesh.cells.size());
         for (Index n : m_nodes)
             if (n >= 0 && std::size_t(n) < mesh.rest.size())
-                m_mirror.rest[std::size_t(n)] = mesh.rest[std::size_t(n)];
+                m_mesh.rest[std::size_t(n)] = mesh.rest[std::size_t(n)];
         // A face a cut rewrites (split, a node inserted on one of its edges, a new owner or
         // neighbour, a new tag) belongs to a cell the cut changed on both of its sides.
         for (Index c : m_cells) {
             if (c < 0 || std::size_t(c) >= mesh.cells.size())
                 continue;
             const mesh::Cell& cell = mesh.cells[std::size_t(c)];
-            m_mirror.cells[std::size_t(c)] = cell;
+            m_mesh.cells[std::size_t(c)] = cell;
             for (Index f : cell.faces)
                 if (std::size_t(f) < f0)
-                    m_mirror.faces[std::size_t(f)] = mesh.faces[std::size_t(f)];
+                    m_mesh.faces[std::size_t(f)] = mesh.faces[std::size_t(f)];
         }
     }
     m_pending = m_whole_pending = false;
     m_cells.clear();
     m_nodes.clear();
-    if (m_check)
-        require_equal_meshes(m_mirror, mesh);
+    return whole;
 }
 
-void UndoJournal::undo(mesh::Mesh& mesh) {
-    assign_elementwise(mesh, m_mirror);
+void Mirror::assign(const mesh::Mesh& mesh) {
+    assign_elementwise(m_mesh, mesh);
     m_pending = m_whole_pending = false;
     m_cells.clear();
     m_nodes.clear();
+}
+
+UndoJournal::UndoJournal(const mesh::Mesh& mesh)
+    : m_call(mesh)
+    , m_accepted(mesh)
+    , m_check(checks_requested()) { }
+
+void UndoJournal::record(const CutReport& r, const mesh::Mesh& mesh) {
+    m_call.record(r, mesh);
+    m_accepted.record(r, mesh);
+}
+
+void UndoJournal::sync(Mirror& mirror, const mesh::Mesh& mesh) {
+    if (!mirror.pending())
+        return;
+    ++m_syncs;
+    if (mirror.sync(mesh))
+        ++m_whole;
+    if (m_check)
+        require_equal_meshes(mirror.mesh(), mesh);
+}
+
+void UndoJournal::commit(const mesh::Mesh& mesh) {
+    sync(m_call, mesh);
+}
+
+void UndoJournal::accept(const mesh::Mesh& mesh) {
+    sync(m_accepted, mesh);
+}
+
+void UndoJournal::undo(mesh::Mesh& mesh) {
+    assign_elementwise(mesh, m_call.mesh());
+    m_call.assign(mesh); // nothing pending
+}
+
+void UndoJournal::undo_all(mesh::Mesh& mesh) {
+    assign_elementwise(mesh, m_accepted.mesh());
+    m_call.assign(mesh);
+    m_accepted.assign(mesh);
 }
 
 void require_equal_meshes(const mesh::Mesh& a, const mesh::Mesh& b) {

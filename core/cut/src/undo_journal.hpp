@@ -14,34 +14,57 @@
 
 namespace polycut::cut::detail {
 
-class UndoJournal {
+/// One copy of the mesh at some earlier moment, and what the calls since then changed.
+class Mirror {
 public:
-    /// Mirrors `mesh` (one whole copy, when the pipeline is made).
-    explicit UndoJournal(const mesh::Mesh& mesh);
-
-    /// Notes what a call changed in `mesh` (its report); the mirror still holds the mesh
-    /// before the call until commit().
+    explicit Mirror(const mesh::Mesh& mesh)
+        : m_mesh(mesh) { }
+    /// Notes what a call changed in `mesh` (its report).
     void record(const CutReport& report, const mesh::Mesh& mesh);
-    /// Brings the mirror up to `mesh` (the calls recorded since the last commit are kept).
-    /// With checks on (env POLYCUT_CHECK_UNDO=1, or a debug build), compares the whole mirror
-    /// with `mesh` afterwards and throws std::logic_error naming the first difference.
-    void commit(const mesh::Mesh& mesh);
-    /// Puts `mesh` back as it was at the last commit (O(mesh): a failed cut only).
-    void undo(mesh::Mesh& mesh);
-    /// Whether something was recorded since the last commit.
+    /// Brings the copy up to `mesh` from what was recorded; returns whether it copied it whole.
+    bool sync(const mesh::Mesh& mesh);
+    /// The copy becomes `mesh` exactly (a whole copy).
+    void assign(const mesh::Mesh& mesh);
+    const mesh::Mesh& mesh() const { return m_mesh; }
     bool pending() const { return m_pending; }
 
-    /// Commits so far, and how many of them copied the whole mesh.
-    std::uint64_t commits() const { return m_commits; }
-    std::uint64_t whole_copies() const { return m_whole; }
-
 private:
-    mesh::Mesh m_mirror;
+    mesh::Mesh m_mesh;
     bool m_pending = false;
     bool m_whole_pending = false; ///< a recorded call renumbered: copy everything
     std::vector<Index> m_cells; ///< changed cells (ids after the calls)
     std::vector<Index> m_nodes; ///< existing nodes the calls moved
-    std::uint64_t m_commits = 0, m_whole = 0;
+};
+
+/// Two mirrors: the mesh before the last call (undo() of a call that failed) and the mesh at the
+/// last accept() (undo_all() of every call since, when the step after them failed).
+class UndoJournal {
+public:
+    /// Mirrors `mesh` (two whole copies, when the pipeline is made).
+    explicit UndoJournal(const mesh::Mesh& mesh);
+
+    /// Notes what a call changed in `mesh` (its report).
+    void record(const CutReport& report, const mesh::Mesh& mesh);
+    /// At the start of a call: the previous call is kept, the last-call mirror takes it.
+    /// With checks on (env POLYCUT_CHECK_UNDO=1, or a debug build), each sync compares the
+    /// whole mirror with `mesh` and throws std::logic_error naming the first difference.
+    void commit(const mesh::Mesh& mesh);
+    /// The calls so far are sound (the step after them succeeded): the accepted mirror takes them.
+    void accept(const mesh::Mesh& mesh);
+    /// Puts `mesh` back as it was before the last call (O(mesh): a failed cut only).
+    void undo(mesh::Mesh& mesh);
+    /// Puts `mesh` back as it was at the last accept() (O(mesh): a failed step only).
+    void undo_all(mesh::Mesh& mesh);
+
+    /// Mirror syncs so far, and how many of them copied the whole mesh.
+    std::uint64_t syncs() const { return m_syncs; }
+    std::uint64_t whole_copies() const { return m_whole; }
+
+private:
+    void sync(Mirror& mirror, const mesh::Mesh& mesh);
+    Mirror m_call; ///< before the last call
+    Mirror m_accepted; ///< at the last accept()
+    std::uint64_t m_syncs = 0, m_whole = 0;
     bool m_check = false;
 };
 

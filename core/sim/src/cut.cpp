@@ -101,16 +101,11 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
             .cells_before = summary.cells_before };
         return;
     }
-    // Until the next step shows the cut model is sound, the state before this cut stays at hand
-    // (Simulation::step undoes the cut when that step fails). The pipeline's undo mirror holds
-    // the mesh before the last call that changed it, so the state kept is that of the same
-    // moment: of two cuts in one tick, a failing step undoes the second.
-    if (summary.topology_changed) {
-        std::unique_ptr<Snapshot> kept = std::make_unique<Snapshot>(std::move(before));
-        if (cut_undo)
-            spare = std::move(cut_undo);
-        cut_undo = std::move(kept);
-    }
+    // Until the next step shows the cut model is sound, the state before the first cut of this
+    // tick stays at hand (Simulation::step undoes the cuts when that step fails; the pipeline
+    // keeps the mesh of that moment, CutPipeline::undo_all).
+    if (summary.topology_changed && !cut_undo)
+        cut_undo = std::make_unique<Snapshot>(std::move(before)); // before's buffers move along
 }
 
 void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
@@ -258,8 +253,13 @@ std::unique_ptr<Simulation::Impl::Snapshot> Simulation::Impl::take_snapshot() {
 void Simulation::Impl::restore(const Snapshot& snap, bool published) {
     if (!cutting)
         throw Error("cut", "the mesh before the cut is no longer known");
-    // The cutters' adjacency and remembered sweeps refer to the failed edit: undo() forgets them.
-    cutting->undo();
+    // The cutters' adjacency and remembered sweeps refer to the failed edit: the undo forgets
+    // them. A published state (a failed step) goes back to before every cut since the last
+    // step, a failed cut to before that cut.
+    if (published)
+        cutting->undo_all();
+    else
+        cutting->undo();
     state = snap.state;
     node_fixed_mask = snap.node_fixed_mask;
     scene_forces = snap.scene_forces;

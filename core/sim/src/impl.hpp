@@ -88,7 +88,7 @@ struct Simulation::Impl {
     /// (`spare`), so the copy writes into memory already mapped.
     std::unique_ptr<Snapshot> take_snapshot();
     std::unique_ptr<Snapshot> spare;
-    /// The state before the last cut since the last step: kept until that step has shown the
+    /// The state before the first cut since the last step: kept until that step has shown the
     /// cut mesh is mechanically sound; a step that fails right after a cut undoes the cut too.
     std::unique_ptr<Snapshot> cut_undo;
     /// Puts the mesh (CutPipeline::undo) and state back as they were and rebuilds the model. The surface topology

@@ -95,6 +95,11 @@ public:
     /// call from what the previous call reported it changed (issue 12 item 5: no copy of the
     /// mesh per cut); the undo itself copies the mirror back.
     void undo();
+    /// The cuts so far are sound (the step after them succeeded): undo_all() comes back to here.
+    void accept();
+    /// Puts the mesh back as it was at the last accept() (or when the pipeline was made): every
+    /// call since is undone, when the step after them failed.
+    void undo_all();
     /// How many calls were mirrored by a whole copy of the mesh (calls that renumbered cells,
     /// faces or nodes); the others copied only what they changed.
     std::uint64_t whole_mesh_copies() const;
