@@ -96,6 +96,10 @@ bool Mirror::sync(const mesh::Mesh& mesh) {
 
 void Mirror::assign(const mesh::Mesh& mesh) {
     assign_elementwise(m_mesh, mesh);
+    clear();
+}
+
+void Mirror::clear() {
     m_pending = m_whole_pending = false;
     m_cells.clear();
     m_nodes.clear();
@@ -122,22 +126,32 @@ void UndoJournal::sync(Mirror& mirror, const mesh::Mesh& mesh) {
 }
 
 void UndoJournal::commit(const mesh::Mesh& mesh) {
-    sync(m_call, mesh);
+    if (m_calls++ > 0)
+        sync(m_call, mesh); // a second call since accept(): its undo needs the mesh before it
 }
 
 void UndoJournal::accept(const mesh::Mesh& mesh) {
     sync(m_accepted, mesh);
+    m_calls = 0;
 }
 
 void UndoJournal::undo(mesh::Mesh& mesh) {
-    assign_elementwise(mesh, m_call.mesh());
-    m_call.assign(mesh); // nothing pending
+    if (m_calls <= 1) {
+        // The first call since accept() failed: the accepted mesh is the one before it.
+        assign_elementwise(mesh, m_accepted.mesh());
+        m_accepted.clear();
+        m_call.invalidate();
+    } else {
+        assign_elementwise(mesh, m_call.mesh());
+        m_call.clear();
+    }
 }
 
 void UndoJournal::undo_all(mesh::Mesh& mesh) {
     assign_elementwise(mesh, m_accepted.mesh());
-    m_call.assign(mesh);
-    m_accepted.assign(mesh);
+    m_accepted.clear();
+    m_call.invalidate();
+    m_calls = 0;
 }
 
 void require_equal_meshes(const mesh::Mesh& a, const mesh::Mesh& b) {

@@ -25,6 +25,10 @@ public:
     bool sync(const mesh::Mesh& mesh);
     /// The copy becomes `mesh` exactly (a whole copy).
     void assign(const mesh::Mesh& mesh);
+    /// The copy may differ anywhere: the next sync copies it whole.
+    void invalidate() { m_pending = m_whole_pending = true; }
+    /// The copy equals the mesh (it was just copied from it).
+    void clear();
     const mesh::Mesh& mesh() const { return m_mesh; }
     bool pending() const { return m_pending; }
 
@@ -36,8 +40,11 @@ private:
     std::vector<Index> m_nodes; ///< existing nodes the calls moved
 };
 
-/// Two mirrors: the mesh before the last call (undo() of a call that failed) and the mesh at the
-/// last accept() (undo_all() of every call since, when the step after them failed).
+/// Two mirrors: the mesh at the last accept() (undo_all() of every call since, when the step
+/// after them failed) and the mesh before the last call (undo() of a call that failed). The
+/// first call after an accept() starts from the accepted mesh, so the last-call mirror is only
+/// brought up to date when a second call comes before the next accept(): one sync per tick of a
+/// stroke, not two.
 class UndoJournal {
 public:
     /// Mirrors `mesh` (two whole copies, when the pipeline is made).
@@ -64,6 +71,7 @@ private:
     void sync(Mirror& mirror, const mesh::Mesh& mesh);
     Mirror m_call; ///< before the last call
     Mirror m_accepted; ///< at the last accept()
+    int m_calls = 0; ///< calls since the last accept()
     std::uint64_t m_syncs = 0, m_whole = 0;
     bool m_check = false;
 };
