@@ -62,54 +62,38 @@ void DgModel::build_operator() {
             neighbours[std::size_t(fd.cells[0])].push_back(fd.cells[1]);
             neighbours[std::size_t(fd.cells[1])].push_back(fd.cells[0]);
         }
-    // The pattern in compressed columns directly: column j of cell c holds the rows of c and of
-    // its neighbours, cells in ascending order (their rows are contiguous and ascending).
-    std::vector<int> outer(std::size_t(n) + 1, 0), inner;
+    std::vector<Eigen::Triplet<double, int>> triplets;
     for (Index c = 0; c < n_cells; ++c) {
         auto& nb = neighbours[std::size_t(c)];
         std::sort(nb.begin(), nb.end());
         nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
-    }
-    std::vector<Index> column_cells;
-    for (Index c = 0; c < n_cells; ++c) {
-        column_cells = neighbours[std::size_t(c)];
-        if (const auto at = std::lower_bound(column_cells.begin(), column_cells.end(), c);
-            at == column_cells.end() || *at != c)
-            column_cells.insert(at, c);
         const Index nc = 3 * basis(c).size();
-        for (Index j = 0; j < nc; ++j) {
-            const Index col = 3 * offset(c) + j;
-            for (Index d : column_cells)
-                for (Index i = 0; i < 3 * basis(d).size(); ++i)
-                    inner.push_back(int(3 * offset(d) + i));
-            outer[std::size_t(col) + 1] = int(inner.size());
-        }
+        auto add_block = [&](Index d) {
+            const Index nd = 3 * basis(d).size();
+            for (Index j = 0; j < nc; ++j)
+                for (Index i = 0; i < nd; ++i)
+                    triplets.emplace_back(int(3 * offset(d) + i), int(3 * offset(c) + j), 0.0);
+        };
+        add_block(c);
+        for (Index d : nb)
+            add_block(d);
     }
     m_pattern.resize(int(n), int(n));
-    m_pattern.resizeNonZeros(Index(inner.size()));
-    std::copy(outer.begin(), outer.end(), m_pattern.outerIndexPtr());
-    std::copy(inner.begin(), inner.end(), m_pattern.innerIndexPtr());
+    m_pattern.setFromTriplets(triplets.begin(), triplets.end());
+    m_pattern.makeCompressed();
     m_pattern.coeffs().setZero();
+    triplets.clear();
+    triplets.shrink_to_fit();
 
     // Slots of a block (rows of cell d, columns of cell c), column-major.
-    // A cell's rows are contiguous in every column of the pattern: one search per column.
     auto block_slots = [&](Index d, Index c, bool transposed) {
         const Index nd = 3 * basis(d).size(), nc = 3 * basis(c).size();
         std::vector<int> s(std::size_t(nd * nc));
-        if (!transposed) {
-            for (Index j = 0; j < nc; ++j) {
-                const int first = slot(3 * offset(d), 3 * offset(c) + j);
-                for (Index i = 0; i < nd; ++i)
-                    s[std::size_t(j * nd + i)] = first + int(i);
-            }
-        } else {
-            // entry (i, j) of the block sits at (row 3 offset(c) + j, column 3 offset(d) + i)
+        for (Index j = 0; j < nc; ++j)
             for (Index i = 0; i < nd; ++i) {
-                const int first = slot(3 * offset(c), 3 * offset(d) + i);
-                for (Index j = 0; j < nc; ++j)
-                    s[std::size_t(j * nd + i)] = first + int(j);
+                const Index row = 3 * offset(d) + i, col = 3 * offset(c) + j;
+                s[std::size_t(j * nd + i)] = transposed ? slot(col, row) : slot(row, col);
             }
-        }
         return s;
     };
 
