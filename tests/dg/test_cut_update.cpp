@@ -15,13 +15,6 @@ using namespace polycut::dg;
 using test::Kind;
 
 namespace {
-elasticity::Material material() {
-    elasticity::Material m;
-    m.youngs_modulus = 1e4;
-    m.poisson_ratio = 0.45;
-    m.density = 1000;
-    return m;
-}
 
 /// Old cell of every cell after the cut, and whether the cut left it unchanged (as
 /// sim's dg_after_cut reads the report).
@@ -64,7 +57,7 @@ TEST(DgCutUpdate, UpdatedModelEqualsAFreshBuildAndIntegratesOnlyTheTouchedCells)
         DgOptions o;
         o.degree = k.degree;
         o.flux = k.flux;
-        const DgModel before(m, material(), o, test::faces_on_plane(m, 0, 0.0));
+        const DgModel before(m, test::tissue_material(), o, test::faces_on_plane(m, 0, 0.0));
         // A partial vertical cut into the top (the lips stay coupled around the sweep).
         cut::Cutter cutter(m);
         const cut::Triangle t { Vec3(0.53, 0.2, 1.2), Vec3(0.53, 0.8, 1.2), Vec3(0.53, 0.5, 0.6) };
@@ -75,7 +68,7 @@ TEST(DgCutUpdate, UpdatedModelEqualsAFreshBuildAndIntegratesOnlyTheTouchedCells)
         sources(m, report, source, unchanged);
         const std::vector<Index> fixed = test::faces_on_plane(m, 0, 0.0);
         const DgModel updated(before, m, source, unchanged, fixed, {});
-        const DgModel fresh(m, material(), o, fixed);
+        const DgModel fresh(m, test::tissue_material(), o, fixed);
         ASSERT_EQ(updated.num_coefficients(), fresh.num_coefficients());
         EXPECT_LT(relative_difference(updated.stiffness(), fresh.stiffness()), 1e-14)
             << test::name(k.kind);

@@ -16,13 +16,6 @@ using namespace polycut::dg;
 using test::Kind;
 
 namespace {
-elasticity::Material material() {
-    elasticity::Material m;
-    m.youngs_modulus = 1e4;
-    m.poisson_ratio = 0.45;
-    m.density = 1000;
-    return m;
-}
 
 /// Node coordinates in the coarse space's column order (nodes some cell uses, first use).
 VecX used_node_field(const mesh::Mesh& m, const Mat3& G, const Vec3& g0) {
@@ -63,7 +56,7 @@ TEST(DgTwoLevel, CoarseSpaceCarriesAnAffineFieldExactlyOnEveryCellKind) {
         const mesh::Mesh m = test::box_mesh(kind, 3);
         DgOptions o;
         o.degree = kind == Kind::Hex ? 2 : 1;
-        const DgModel model(m, material(), o, left_faces(m));
+        const DgModel model(m, test::tissue_material(), o, left_faces(m));
         const solve::SparseMatrix P = model.coarse_space();
         ASSERT_EQ(P.rows(), 3 * model.num_coefficients());
         const VecX coeffs = P * used_node_field(m, G, g0);
@@ -84,7 +77,7 @@ TEST(DgTwoLevel, CoarseSpaceCarriesAnAffineFieldExactlyOnEveryCellKind) {
 TEST(DgTwoLevel, PreconditionedCgReachesTheCholeskySolutionWithFewIterations) {
     for (Kind kind : { Kind::Tet, Kind::JitteredTet, Kind::Hex }) {
         const mesh::Mesh m = test::box_mesh(kind, kind == Kind::Hex ? 5 : 3);
-        const DgModel model(m, material(), DgOptions {}, left_faces(m));
+        const DgModel model(m, test::tissue_material(), DgOptions {}, left_faces(m));
         const solve::SparseMatrix A = system_matrix(model);
         VecX b = model.body_load(Vec3(0, 0, -9810));
         std::mt19937 rng(3);
@@ -126,7 +119,7 @@ TEST(DgTwoLevel, PreconditionerIsSymmetricPositiveDefiniteAlsoWhenLagged) {
     // converges to 1e-12 (it needs B symmetric positive definite; an indefinite or
     // non-symmetric B stalls or breaks down).
     const mesh::Mesh m = test::box_mesh(Kind::Tet, 2);
-    const DgModel model(m, material(), DgOptions {}, left_faces(m));
+    const DgModel model(m, test::tissue_material(), DgOptions {}, left_faces(m));
     const solve::SparseMatrix A0 = system_matrix(model);
     solve::PcgOptions o;
     o.preconditioner = solve::Preconditioner::TwoLevel;

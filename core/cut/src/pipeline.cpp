@@ -344,7 +344,7 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
             before_change();
         result.report = s.snap() ? s.snapper->cut(rest, max_changed_cells)
                                  : s.splitter->cut(rest, max_changed_cells);
-        s.journal.record(result.report, s.mesh);
+        s.journal.record(result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();
@@ -382,7 +382,7 @@ CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
         if (before_change)
             before_change();
         result.report = s.snapper->finish_sweep();
-        s.journal.record(result.report, s.mesh);
+        s.journal.record(result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();

@@ -43,17 +43,15 @@ template <class T> void grow_from(std::vector<T>& to, const std::vector<T>& from
 }
 } // namespace
 
-void Mirror::record(const CutReport& r, const mesh::Mesh& mesh) {
+void Mirror::record(const CutReport& r) {
     if (!r.topology_changed && r.moved_nodes.empty())
         return;
     m_pending = true;
     // Renumbering calls: ids in the report are after a compaction of cells, faces or nodes, so
     // every later element may have moved (face parents too).
     if (r.faces_renumbered || !r.cell_map.empty() || !r.node_map.empty() || r.slivers_merged > 0
-        || r.cut_faces_merged > 0 || !r.removed_cells.empty() || !r.removed_nodes.empty()
-        || mesh.faces.size() < m_mesh.faces.size() || mesh.cells.size() < m_mesh.cells.size()
-        || mesh.rest.size() < m_mesh.rest.size())
-        m_whole_pending = true;
+        || r.cut_faces_merged > 0 || !r.removed_cells.empty() || !r.removed_nodes.empty())
+        m_whole_pending = true; // (a mesh that shrank is copied whole by sync() too)
     if (m_whole_pending)
         return;
     m_cells.insert(m_cells.end(), r.changed_cells.begin(), r.changed_cells.end());
@@ -110,15 +108,14 @@ UndoJournal::UndoJournal(const mesh::Mesh& mesh)
     , m_accepted(mesh)
     , m_check(checks_requested()) { }
 
-void UndoJournal::record(const CutReport& r, const mesh::Mesh& mesh) {
-    m_call.record(r, mesh);
-    m_accepted.record(r, mesh);
+void UndoJournal::record(const CutReport& r) {
+    m_call.record(r);
+    m_accepted.record(r);
 }
 
 void UndoJournal::sync(Mirror& mirror, const mesh::Mesh& mesh) {
     if (!mirror.pending())
         return;
-    ++m_syncs;
     if (mirror.sync(mesh))
         ++m_whole;
     if (m_check)

@@ -19,8 +19,8 @@ class Mirror {
 public:
     explicit Mirror(const mesh::Mesh& mesh)
         : m_mesh(mesh) { }
-    /// Notes what a call changed in `mesh` (its report).
-    void record(const CutReport& report, const mesh::Mesh& mesh);
+    /// Notes what a call changed (its report).
+    void record(const CutReport& report);
     /// Brings the copy up to `mesh` from what was recorded; returns whether it copied it whole.
     bool sync(const mesh::Mesh& mesh);
     /// The copy becomes `mesh` exactly (a whole copy).
@@ -50,8 +50,8 @@ public:
     /// Mirrors `mesh` (two whole copies, when the pipeline is made).
     explicit UndoJournal(const mesh::Mesh& mesh);
 
-    /// Notes what a call changed in `mesh` (its report).
-    void record(const CutReport& report, const mesh::Mesh& mesh);
+    /// Notes what a call changed (its report).
+    void record(const CutReport& report);
     /// At the start of a call: the previous call is kept, the last-call mirror takes it.
     /// With checks on (env POLYCUT_CHECK_UNDO=1, or a debug build), each sync compares the
     /// whole mirror with `mesh` and throws std::logic_error naming the first difference.
@@ -63,8 +63,7 @@ public:
     /// Puts `mesh` back as it was at the last accept() (O(mesh): a failed step only).
     void undo_all(mesh::Mesh& mesh);
 
-    /// Mirror syncs so far, and how many of them copied the whole mesh.
-    std::uint64_t syncs() const { return m_syncs; }
+    /// Mirror syncs that copied the whole mesh so far.
     std::uint64_t whole_copies() const { return m_whole; }
 
 private:
@@ -72,7 +71,7 @@ private:
     Mirror m_call; ///< before the last call
     Mirror m_accepted; ///< at the last accept()
     int m_calls = 0; ///< calls since the last accept()
-    std::uint64_t m_syncs = 0, m_whole = 0;
+    std::uint64_t m_whole = 0;
     bool m_check = false;
 };
 

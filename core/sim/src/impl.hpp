@@ -91,8 +91,8 @@ struct Simulation::Impl {
     /// The state before the first cut since the last step: kept until that step has shown the
     /// cut mesh is mechanically sound; a step that fails right after a cut undoes the cut too.
     std::unique_ptr<Snapshot> cut_undo;
-    /// Puts the mesh (CutPipeline::undo) and state back as they were and rebuilds the model. The surface topology
-    /// and its version come back too when nothing was published since the snapshot
+    /// Puts the mesh (CutPipeline::undo) and state back as they were and rebuilds the model. The
+    /// surface topology and its version come back too when nothing was published since the snapshot
     /// (`published` false: a failed cut changes nothing a client can see); otherwise the old
     /// topology gets a new version, so clients that saw the cut fetch it again.
     void restore(const Snapshot& snap, bool published = false);
