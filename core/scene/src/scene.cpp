@@ -297,7 +297,7 @@ Solver parse_solver(const json& j, const std::string& ptr) {
     Solver s;
     s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
     s.preconditioner = r.choice("preconditioner", s.preconditioner,
-        { "jacobi", "block_jacobi", "cell_block_jacobi", "lagged_cholesky", "amg" });
+        { "jacobi", "block_jacobi", "cell_block_jacobi", "lagged_cholesky", "amg", "two_level" });
     s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
     s.load_tolerance = r.number("load_tolerance", s.load_tolerance, 0, 1, false);
     s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));

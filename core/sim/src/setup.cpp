@@ -191,6 +191,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
         : sv.preconditioner == "cell_block_jacobi" ? integrate::LinearSolverKind::PcgCellBlockJacobi
         : sv.preconditioner == "lagged_cholesky"   ? integrate::LinearSolverKind::PcgLagged
         : sv.preconditioner == "amg"               ? integrate::LinearSolverKind::PcgAmg
+        : sv.preconditioner == "two_level"         ? integrate::LinearSolverKind::PcgTwoLevel
                                                    : integrate::LinearSolverKind::PcgJacobi;
     o.solver.relative_tolerance = sv.tolerance;
     o.solver.load_tolerance = sv.load_tolerance;

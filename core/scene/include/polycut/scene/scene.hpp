@@ -153,7 +153,8 @@ struct Integrator {
 struct Solver {
     std::string type = "pcg"; ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
     /// pcg: "jacobi", "block_jacobi", "cell_block_jacobi" (dg: one block per cell),
-    /// "lagged_cholesky", "amg" (hypre BoomerAMG)
+    /// "lagged_cholesky", "amg" (hypre BoomerAMG), "two_level" (dg: cell block Jacobi plus a
+    /// P1 coarse space on the nodes, docs/decisions/0024)
     std::string preconditioner = "jacobi";
     double tolerance = 1e-6; ///< relative residual
     double load_tolerance = 0; ///< residual floor as a fraction of h ||f_ext|| (0 = off)
