@@ -92,7 +92,7 @@ void render_frame(benchmark::State& state, const Variant& variant) {
     config.cull_back_faces = variant.cull;
     config.profile = variant.profile;
     Renderer renderer(config);
-    DrawList scene { blob.arrays(), {}, {}, {} };
+    DrawList scene { blob.arrays(), {}, {}, {}, {} };
     const auto [lo, hi] = bounds(blob.positions);
     const Camera camera = frame(lo, hi, 640.0 / 480.0);
     Image image;

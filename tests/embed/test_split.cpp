@@ -63,6 +63,73 @@ double volume(const std::vector<Vec3>& p, const std::vector<std::uint32_t>& tri)
     return v;
 }
 
+/// Area of polygon `subject` clipped to the convex, counter-clockwise polygon `clip`
+/// (Sutherland-Hodgman; right for any simple subject, as far as the area goes), in 2D.
+double clipped_area(
+    std::vector<Eigen::Vector2d> subject, const std::vector<Eigen::Vector2d>& clip) {
+    for (std::size_t i = 0; i < clip.size() && !subject.empty(); ++i) {
+        const Eigen::Vector2d a = clip[i], b = clip[(i + 1) % clip.size()];
+        auto side = [&](const Eigen::Vector2d& p) {
+            const Eigen::Vector2d d = b - a, q = p - a;
+            return d.x() * q.y() - d.y() * q.x();
+        };
+        std::vector<Eigen::Vector2d> out;
+        for (std::size_t j = 0; j < subject.size(); ++j) {
+            const Eigen::Vector2d p = subject[j], q = subject[(j + 1) % subject.size()];
+            const double sp = side(p), sq = side(q);
+            if (sp >= 0)
+                out.push_back(p);
+            if ((sp >= 0) != (sq >= 0))
+                out.push_back(p + (q - p) * (sp / (sp - sq)));
+        }
+        subject = std::move(out);
+    }
+    double area = 0;
+    for (std::size_t j = 0; j < subject.size(); ++j) {
+        const Eigen::Vector2d& p = subject[j];
+        const Eigen::Vector2d& q = subject[(j + 1) % subject.size()];
+        area += p.x() * q.y() - p.y() * q.x();
+    }
+    return 0.5 * std::abs(area);
+}
+
+/// The section of a convex triangulated surface by the plane y = y0, as a counter-clockwise
+/// convex polygon in (x, z): the hull of where its edges cross the plane.
+std::vector<Eigen::Vector2d> section_at_y(
+    const std::vector<Vec3>& v, const std::vector<std::array<Index, 3>>& t, double y0) {
+    std::vector<Eigen::Vector2d> pts;
+    for (const auto& tri : t)
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& p = v[std::size_t(tri[std::size_t(k)])];
+            const Vec3& q = v[std::size_t(tri[std::size_t((k + 1) % 3)])];
+            if ((p.y() - y0) * (q.y() - y0) < 0) {
+                const Vec3 x = p + (q - p) * ((y0 - p.y()) / (q.y() - p.y()));
+                pts.emplace_back(x.x(), x.z());
+            }
+        }
+    // Andrew's monotone chain.
+    std::sort(pts.begin(), pts.end(), [](const auto& a, const auto& b) {
+        return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+    });
+    auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+        return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+    };
+    std::vector<Eigen::Vector2d> hull(2 * pts.size());
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0)
+            --k;
+        hull[k++] = pts[i];
+    }
+    for (std::size_t i = pts.size() - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0)
+            --k;
+        hull[k++] = pts[i];
+    }
+    hull.resize(k - 1);
+    return hull;
+}
+
 struct Fixture {
     mesh::Mesh mesh;
     std::vector<Vec3> sphere;
@@ -156,6 +223,21 @@ TEST_P(Split, LipsAreClosedFlatAndTaggedAndTheVolumeIsKept) {
     };
     EXPECT_GT(lip_area, 2 * segment(0.01) * 0.98);
     EXPECT_LT(lip_area, 2 * segment(0.0) * 1.001);
+    // Exactly: the lips are the mesh's Cut faces (both sides) clipped to the detailed surface,
+    // so their area is the sum over those faces of the face's overlap with the (convex) section
+    // of the triangulated sphere by the cut plane, computed here independently in 2D.
+    const std::vector<Eigen::Vector2d> section = section_at_y(f.sphere, f.triangles, 0.001);
+    double expected = 0, cut_area = 0;
+    for (const Index face : f.cut_faces) {
+        std::vector<Eigen::Vector2d> loop;
+        for (const Index n : f.mesh.faces[std::size_t(face)].nodes) {
+            loop.emplace_back(f.mesh.rest[std::size_t(n)].x(), f.mesh.rest[std::size_t(n)].z());
+        }
+        expected += clipped_area(loop, section);
+        cut_area += clipped_area(loop, { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } });
+    }
+    EXPECT_GT(cut_area, lip_area); // the cells reach past the skin
+    EXPECT_NEAR(lip_area, expected, 1e-9 * expected);
 }
 
 TEST_P(Split, AVertexOnTheCutFollowsItsOwnSide) {

@@ -16,7 +16,7 @@ struct TestSurface {
     std::vector<std::uint8_t> tags; ///< (#T)
 
     SurfaceArrays arrays() const { return { positions, triangles, tags }; }
-    DrawList draw_list() const { return { arrays(), {}, {}, {} }; }
+    DrawList draw_list() const { return { arrays(), {}, {}, {}, {} }; }
 };
 
 /// Block dimensions [m] and notch geometry.

@@ -91,7 +91,9 @@ bool Simulation::Impl::split_embedded(const embed::CutChange& change) {
 
 void Simulation::Impl::refresh_embedded() {
     const cut::CutReport* cut = std::exchange(embedded_pending_cut, nullptr);
-    if (!embedded || embedded_version == topology_version)
+    // A cut always refreshes: after a failed cut was undone within the same tick, the next
+    // cut's topology version can equal the one the embedding was last made for.
+    if (!embedded || (embedded_version == topology_version && cut == nullptr))
         return;
     const Stopwatch watch;
     const basis::PolyBasis poly = basis_options(scene).poly;
