@@ -169,7 +169,20 @@ struct Fixture {
             if (c == kNone || std::binary_search(r.changed_cells.begin(), r.changed_cells.end(), c))
                 moved.push_back(std::uint32_t(v));
         }
-        return split({ r.cut_faces, r.duplicated, moved });
+        embed::SplitReport s = split({ r.cut_faces, r.duplicated, moved });
+        if (s.overlaps_earlier_cut) {
+            // Over skin an earlier cut split: anew, along all the Cut faces (as the sim does).
+            e = embed::embed_surface(mesh, sphere, triangles, poly);
+            state = {};
+            cut_faces.clear();
+            for (Index face = 0; face < mesh.num_faces(); ++face)
+                if (mesh.faces[std::size_t(face)].boundary()
+                    && mesh.faces[std::size_t(face)].tag == mesh::FaceTag::Cut)
+                    cut_faces.push_back(face);
+            s = split({ cut_faces, {}, {} });
+            s.overlaps_earlier_cut = true;
+        }
+        return s;
     }
     embed::SplitReport split(const embed::CutChange& change) {
         return embed::split_along_cut(

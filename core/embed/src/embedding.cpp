@@ -135,6 +135,8 @@ Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions,
             }
             pc.evaluate(X, w);
         }
+        if (!w.allFinite()) // a point on a face of a polyhedron the basis cannot take there:
+            w = affine_fit_weights(nodes, X); // the cell's affine fit, exact for affine motions
         for (Index k = 0; k < w.size(); ++k) {
             e.nodes.push_back(c.nodes[std::size_t(k)]);
             e.weights.push_back(w(k));

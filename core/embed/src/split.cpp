@@ -206,6 +206,31 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
         }
     }
     report.cut_triangles = cut.triangles.size();
+    // A cut over ground an earlier one split (a Cut face that grew: the blade carried on
+    // through a cell it had only entered): the skin there is already split along the earlier
+    // faces, and the new faces cover the same rest plane only up to rounding, so corefining
+    // again would cross the old seams at rounding-sized angles. The caller splits anew instead,
+    // along all the Cut faces at once (decision 0033). Nothing has changed yet.
+    if (!state.copies.empty() && !cut.triangles.empty()) {
+        constexpr double kOnCut = 1e-9; // [m], far above rounding, far below any triangle
+        for (const auto& [key, ids] : state.copies) {
+            const Vec3 p(key[0], key[1], key[2]);
+            Box at;
+            at.add(p);
+            if (!at.overlaps(all, kOnCut))
+                continue;
+            for (std::size_t c = 0; c < cut.triangles.size(); ++c) {
+                const auto& tri = cut.triangles[c];
+                if (at.overlaps(cut_box[c], kOnCut)
+                    && on_triangle(
+                        p, cut.points[tri[0]], cut.points[tri[1]], cut.points[tri[2]], kOnCut)) {
+                    report.overlaps_earlier_cut = true;
+                    report.total_ms = watch.ms();
+                    return report;
+                }
+            }
+        }
+    }
     std::vector<std::uint32_t> reembed_list = change.reembed;
     separate_lip_nodes(e, state, mesh, change.duplicated, reembed_list, report);
     if (cut.triangles.empty()) {
@@ -225,7 +250,7 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
             for (int k = 0; k < 3; ++k)
                 ++fan_offsets[e.triangles[3 * t + std::size_t(k)] + 1];
     std::partial_sum(fan_offsets.begin(), fan_offsets.end(), fan_offsets.begin());
-    fan.resize(fan_offsets.back());
+    fan.resize(fan_offsets[num_vertices]);
     {
         std::vector<std::uint32_t> fill(fan_offsets.begin(), fan_offsets.end() - 1);
         for (std::size_t t = 0; t < num_tri; ++t)

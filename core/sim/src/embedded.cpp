@@ -75,6 +75,8 @@ bool Simulation::Impl::split_embedded(const embed::CutChange& change) {
                 return inside.signed_distance(X, n) < 0;
             },
             basis_options(scene).poly);
+        if (r.overlaps_earlier_cut)
+            return false; // the caller splits anew along all the Cut faces (decision 0033)
         embedded_stats.split_ms = r.total_ms;
         embedded_stats.corefine_ms = r.corefine_ms;
         embedded_stats.patch_triangles = r.patch_triangles;

@@ -164,7 +164,9 @@ struct Simulation::Impl {
     /// embedded surface is split and re-embedded where this cut changed the mesh only.
     void note_embedding_cut(const cut::CutReport& report);
     /// Splits the embedding along the cut faces of `change` (all the mesh's Cut faces when
-    /// embedding anew); false if CGAL failed (the caller then embeds the surface unsplit).
+    /// embedding anew); false if CGAL failed (the caller then embeds the surface unsplit, and
+    /// EmbeddedStats::split says so) or the cut ran over skin an earlier cut split (the caller
+    /// then embeds anew and splits along all the Cut faces at once).
     bool split_embedded(const embed::CutChange& change);
     /// build(): reads and embeds the scene's surface (when it names one).
     void build_embedded();

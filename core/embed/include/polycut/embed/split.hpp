@@ -34,6 +34,9 @@ struct SplitReport {
     std::size_t lip_triangles_added = 0; ///< both sides
     std::size_t lips_remade = 0; ///< earlier lip triangles on the cut faces, made again
     std::size_t reembedded = 0; ///< vertices embedded again
+    /// The cut runs over skin an earlier cut split (a Cut face grew): nothing was done, the
+    /// caller embeds the surface anew and splits it along all the mesh's Cut faces at once.
+    bool overlaps_earlier_cut = false;
     double corefine_ms = 0; ///< CGAL corefinement [ms]
     double total_ms = 0; ///< the whole call [ms]
 };
@@ -51,7 +54,8 @@ struct CutChange {
 /// made again when a Cut face there grew) and embeds the vertices it made or regrouped, and
 /// `change.reembed`, in `mesh`. `inside(X)` says whether a rest point lies inside the detailed
 /// surface as it was loaded (the lips are the part of the cut inside it). Throws polycut::Error
-/// when CGAL cannot corefine (the caller then embeds the surface anew, unsplit).
+/// when CGAL cannot corefine (the caller then embeds the surface anew, unsplit). Does nothing
+/// and says `overlaps_earlier_cut` when an earlier cut's seam lies on the new Cut faces.
 SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& mesh,
     const CutChange& change, const std::function<bool(const Vec3&)>& inside, basis::PolyBasis poly);
 
