@@ -35,6 +35,8 @@ std::vector<Index> rebuild_faces(Model& md) {
         pend.push_back(k);
     }
     // Compact cells.
+    s.cell_volume.resize(m.cells.size(), 0.0); // appended tets are changed: end() measures them
+    s.invalidate_grid();
     std::vector<Index> cmap(m.cells.size(), kNone);
     Index nc = 0;
     for (Index c = 0; c < m.num_cells(); ++c) {
@@ -54,6 +56,7 @@ std::vector<Index> rebuild_faces(Model& md) {
         s.changed[to] = s.changed[from];
         s.cell_old[to] = s.cell_old[from];
         s.cell_parent[to] = s.cell_parent[from];
+        s.cell_volume[to] = s.cell_volume[from];
     }
     std::vector<Index> deferred;
     for (Index c : s.deferred)
@@ -62,6 +65,7 @@ std::vector<Index> rebuild_faces(Model& md) {
     s.deferred = std::move(deferred);
     for (auto* v : { &s.cell_old, &s.cell_parent })
         v->resize(std::size_t(nc));
+    s.cell_volume.resize(std::size_t(nc));
     m.cells.resize(std::size_t(nc));
     md.labels.resize(std::size_t(nc));
     s.marks.resize(std::size_t(nc));

@@ -121,7 +121,8 @@ std::vector<Index> select_faces(State& s, const SweepPlane& P) {
     std::unordered_map<std::uint64_t, Index> cache;
     std::vector<Index> selected_now;
     s.near.clear();
-    for (Index c = 0; c < s.m.num_cells(); ++c) {
+    const std::vector<Index> cells = s.candidates(tb); // copied: evaluate() may query again
+    for (Index c : cells) {
         if (!s.bounds(c).overlaps(tb))
             continue;
         s.near.push_back(c);
@@ -338,7 +339,8 @@ std::vector<Index> select_swept_faces(State& s, const SweepPlane& P) {
         return it->second;
     };
     std::vector<Index> faces;
-    for (Index c = 0; c < s.m.num_cells(); ++c) {
+    const std::vector<Index> cells = s.candidates(tb);
+    for (Index c : cells) {
         if (!s.bounds(c).overlaps(tb))
             continue;
         for (Index f : at(s.m.cells, c).faces) {
