@@ -152,14 +152,69 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
     if (e.lip.empty())
         e.lip.assign(num_tri, 0);
 
-    // 1. The cut surface, one copy per rest polygon.
-    struct Polygon {
-        std::vector<Index> faces; ///< mesh faces with this rest loop (one per side)
+    // 1. The cut surface: one side's Cut faces. The two lips of a cut cover the same rest
+    // surface, but not always with the same polygons (a node where the blade stopped inside a
+    // cell sits on one side's face only), so the faces are parted into the two sides and one
+    // side is taken: faces sharing an edge are on the same side when their normals agree (on
+    // opposite sides across the crack front, where the lips fold), and a face whose rest
+    // polygon is another's is on the other side (parity union-find).
+    std::vector<Index> faces;
+    std::vector<Vec3> normal;
+    for (const Index f : cut_faces) {
+        if (f < 0 || f >= mesh.num_faces())
+            continue;
+        const mesh::Face& face = mesh.faces[std::size_t(f)];
+        if (!face.boundary() || face.tag != mesh::FaceTag::Cut || face.nodes.size() < 3)
+            continue;
+        std::vector<Vec3> loop;
+        for (const Index n : face.nodes)
+            loop.push_back(mesh.rest[std::size_t(n)]);
+        faces.push_back(f);
+        normal.push_back(geometry::polygon_normal(loop));
+    }
+    report.cut_faces = faces.size();
+    std::vector<std::size_t> parent(faces.size());
+    std::vector<char> parity(faces.size(), 0); // relative to the parent
+    std::iota(parent.begin(), parent.end(), std::size_t(0));
+    auto side_of = [&](std::size_t i) {
+        char p = 0;
+        while (parent[i] != i) {
+            p ^= parity[i];
+            i = parent[i];
+        }
+        return std::make_pair(i, p);
     };
-    std::vector<Polygon> polygons;
-    std::map<std::vector<Key>, std::size_t> polygon_of;
+    auto unite = [&](std::size_t a, std::size_t b, char differ) {
+        const auto [ra, pa] = side_of(a);
+        const auto [rb, pb] = side_of(b);
+        if (ra != rb) {
+            parent[rb] = ra;
+            parity[rb] = char(pa ^ pb ^ differ);
+        }
+    };
+    {
+        std::map<std::pair<Index, Index>, std::size_t> edge_face;
+        std::map<std::vector<Key>, std::size_t> polygon_face;
+        for (std::size_t i = 0; i < faces.size(); ++i) {
+            const mesh::Face& face = mesh.faces[std::size_t(faces[i])];
+            std::vector<Key> sorted;
+            for (std::size_t k = 0; k < face.nodes.size(); ++k) {
+                const Index a = face.nodes[k], b = face.nodes[(k + 1) % face.nodes.size()];
+                sorted.push_back(key_of(mesh.rest[std::size_t(a)]));
+                const auto [it, fresh] = edge_face.emplace(std::minmax(a, b), i);
+                if (!fresh)
+                    unite(it->second, i, normal[it->second].dot(normal[i]) < 0);
+            }
+            std::sort(sorted.begin(), sorted.end());
+            const auto [it, fresh] = polygon_face.emplace(std::move(sorted), i);
+            if (!fresh)
+                unite(it->second, i, 1);
+        }
+    }
     detail::TriangleSet cut;
-    std::vector<std::size_t> cut_polygon; ///< polygon of each cut triangle
+    std::vector<std::size_t> cut_face; ///< index into `faces` of each cut triangle
+    std::vector<char> kept(faces.size(), 0);
+    std::map<Key, Index> side_node[2]; ///< nodes of each side's faces, by rest position
     std::map<Key, std::uint32_t> cut_vertex;
     std::vector<Box> cut_box;
     Box all;
@@ -169,33 +224,24 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
             cut.points.push_back(p);
         return it->second;
     };
-    for (const Index f : cut_faces) {
-        if (f < 0 || f >= mesh.num_faces())
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+        const mesh::Face& face = mesh.faces[std::size_t(faces[i])];
+        const int side = side_of(i).second;
+        for (const Index n : face.nodes)
+            side_node[side].emplace(key_of(mesh.rest[std::size_t(n)]), n);
+        if (side)
             continue;
-        const mesh::Face& face = mesh.faces[std::size_t(f)];
-        if (!face.boundary() || face.tag != mesh::FaceTag::Cut || face.nodes.size() < 3)
-            continue;
-        ++report.cut_faces;
+        kept[i] = 1;
         std::vector<Vec3> loop;
         for (const Index n : face.nodes)
             loop.push_back(mesh.rest[std::size_t(n)]);
-        std::vector<Key> sorted;
-        for (const Vec3& p : loop)
-            sorted.push_back(key_of(p));
-        std::sort(sorted.begin(), sorted.end());
-        const auto [it, fresh] = polygon_of.emplace(sorted, polygons.size());
-        if (!fresh) {
-            polygons[it->second].faces.push_back(f);
-            continue;
-        }
-        polygons.push_back({ { f } });
         const double area = geometry::polygon_area(loop);
-        for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
-            const Vec3 &a = loop[0], &b = loop[i], &c = loop[i + 1];
+        for (std::size_t k = 1; k + 1 < loop.size(); ++k) {
+            const Vec3 &a = loop[0], &b = loop[k], &c = loop[k + 1];
             if (!((b - a).cross(c - a).norm() > 1e-10 * area))
                 continue;
             cut.triangles.push_back({ cut_vertex_of(a), cut_vertex_of(b), cut_vertex_of(c) });
-            cut_polygon.push_back(it->second);
+            cut_face.push_back(i);
             Box box;
             box.add(a);
             box.add(b);
@@ -524,7 +570,39 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
         e.triangles = std::move(triangles);
         e.lip = std::move(lip);
     }
-    std::map<std::pair<Key, Index>, std::uint32_t> loose; // lip corners on neither (rare)
+    // Lip corners that are no skin vertex: the mesh node there (a vertex per node), else (a
+    // node of one side's polygons only) a vertex per side, located a little into that side.
+    std::map<std::pair<Key, int>, std::uint32_t> loose;
+    auto lip_corner = [&](const Vec3& p, const mesh::Face& face, int side, const Vec3& n) {
+        if (const auto it = refined_at.find(key_of(p)); it != refined_at.end())
+            return copies_at[it->second].size() > 1 ? copy_behind(e, copies_at[it->second], n)
+                                                    : copies_at[it->second].front();
+        Index node = kNone;
+        if (const auto it = side_node[side].find(key_of(p)); it != side_node[side].end())
+            node = it->second;
+        const Vec3 towards = mesh.cell_centroid(face.owner);
+        const double reach = (towards - p).norm();
+        // Into the face's cell on its own side, through the cut plane on the other side.
+        const Vec3 probe = side == 0 ? Vec3(p + kProbeStep * (towards - p))
+                                     : Vec3(p + kProbeStep * reach * n.normalized());
+        std::uint32_t* slot = nullptr;
+        bool made = false;
+        if (node != kNone) {
+            const auto r = state.node_vertex.emplace(node, 0u);
+            slot = &r.first->second;
+            made = r.second;
+        } else {
+            const auto r = loose.emplace(std::make_pair(key_of(p), side), 0u);
+            slot = &r.first->second;
+            made = r.second;
+        }
+        if (made) {
+            *slot = add_vertex(e, p, probe);
+            to_embed.insert(*slot);
+            ++report.vertices_added;
+        }
+        return *slot;
+    };
     const detail::TriangleSet& rc = refined.cut;
     for (std::size_t t = 0; t < rc.triangles.size(); ++t) {
         const auto& tri = rc.triangles[t];
@@ -535,44 +613,14 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
         const Vec3 centroid = (a + b + c) / 3.0;
         if (!inside(centroid))
             continue;
-        for (const Index f : polygons[cut_polygon[rc.origin[t]]].faces) {
-            const mesh::Face& face = mesh.faces[std::size_t(f)];
-            std::vector<Vec3> loop;
-            for (const Index n : face.nodes)
-                loop.push_back(mesh.rest[std::size_t(n)]);
-            const Vec3 n = geometry::polygon_normal(loop);
+        const std::size_t i = cut_face[rc.origin[t]];
+        const mesh::Face& face = mesh.faces[std::size_t(faces[i])];
+        for (int side = 0; side < 2; ++side) {
+            // Outward: along the kept face's normal on its side, against it on the other.
+            const Vec3 n = side == 0 ? normal[i] : Vec3(-normal[i]);
             std::array<std::uint32_t, 3> out {};
-            for (int k = 0; k < 3; ++k) {
-                const Vec3& p = rc.points[tri[std::size_t(k)]];
-                if (const auto it = refined_at.find(key_of(p)); it != refined_at.end()) {
-                    out[std::size_t(k)] = copies_at[it->second].size() > 1
-                        ? copy_behind(e, copies_at[it->second], n)
-                        : copies_at[it->second].front();
-                    continue;
-                }
-                Index node = kNone;
-                for (std::size_t j = 0; j < loop.size(); ++j)
-                    if (loop[j] == p)
-                        node = face.nodes[j];
-                const Vec3 probe = p + kProbeStep * (mesh.cell_centroid(face.owner) - p);
-                if (node != kNone) {
-                    auto [it, fresh] = state.node_vertex.emplace(node, 0u);
-                    if (fresh) {
-                        it->second = add_vertex(e, p, probe);
-                        to_embed.insert(it->second);
-                        ++report.vertices_added;
-                    }
-                    out[std::size_t(k)] = it->second;
-                } else {
-                    auto [it, fresh] = loose.emplace(std::make_pair(key_of(p), face.owner), 0u);
-                    if (fresh) {
-                        it->second = add_vertex(e, p, probe);
-                        to_embed.insert(it->second);
-                        ++report.vertices_added;
-                    }
-                    out[std::size_t(k)] = it->second;
-                }
-            }
+            for (int k = 0; k < 3; ++k)
+                out[std::size_t(k)] = lip_corner(rc.points[tri[std::size_t(k)]], face, side, n);
             if (nt_.dot(n) < 0)
                 std::swap(out[1], out[2]);
             e.triangles.insert(e.triangles.end(), out.begin(), out.end());
