@@ -38,7 +38,7 @@ void expect_same_system(elasticity::ElasticModel& model, elasticity::ElasticMode
     for (Index i = 0; i < m.num_nodes(); ++i)
         x.row(i)
             = (m.rest[std::size_t(i)] + Vec3(jitter(rng), jitter(rng), jitter(rng))).transpose();
-    solve::SparseMatrix K1 = model.make_matrix(), K2 = fresh.make_matrix();
+    SparseMatrix K1 = model.make_matrix(), K2 = fresh.make_matrix();
     // The pattern is a function of the mesh: an incremental update must give the same arrays.
     ASSERT_EQ(K1.nonZeros(), K2.nonZeros());
     EXPECT_TRUE(std::equal(

@@ -145,7 +145,7 @@ void DgModel::build_operator() {
     }
 }
 
-void DgModel::assemble(const MatX3& x, Warp warp, solve::SparseMatrix* K, VecX* f_int) {
+void DgModel::assemble(const MatX3& x, Warp warp, SparseMatrix* K, VecX* f_int) {
     const Index n = 3 * m_num_coeffs;
     const MatX3 u = x - m_rest;
     if (warp == Warp::Linear) {
@@ -205,7 +205,7 @@ void DgModel::assemble(const MatX3& x, Warp warp, solve::SparseMatrix* K, VecX* 
     }
 }
 
-solve::SparseMatrix DgModel::stiffness() const {
+SparseMatrix DgModel::stiffness() const {
     return m_linear;
 }
 

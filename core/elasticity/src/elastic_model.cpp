@@ -277,8 +277,8 @@ void ElasticModel::set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs) {
     rebuild_mass();
 }
 
-solve::SparseMatrix ElasticModel::make_matrix() const {
-    solve::SparseMatrix A(m_num_free, m_num_free);
+SparseMatrix ElasticModel::make_matrix() const {
+    SparseMatrix A(m_num_free, m_num_free);
     A.resizeNonZeros(Index(m_inner.size()));
     std::copy(m_outer.begin(), m_outer.end(), A.outerIndexPtr());
     std::copy(m_inner.begin(), m_inner.end(), A.innerIndexPtr());
@@ -388,7 +388,7 @@ void ElasticModel::assemble_cells(
         detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
 }
 
-void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) {
+void ElasticModel::assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) {
     double* Kvals = nullptr;
     if (K) {
         if (K->rows() != m_num_free || K->nonZeros() != Index(m_inner.size()) || !K->isCompressed())

@@ -7,10 +7,10 @@
 #pragma once
 
 #include "polycut/basis/cell_basis.hpp"
+#include "polycut/common/sparse.hpp"
 #include "polycut/elasticity/material.hpp"
 #include "polycut/elasticity/model.hpp"
 #include "polycut/mesh/mesh.hpp"
-#include "polycut/solve/sparse.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -72,13 +72,13 @@ public:
 
     /// A reduced matrix (#free x #free) with the model's sparsity pattern, all values zero.
     /// Matrices made before a topology change must be remade.
-    solve::SparseMatrix make_matrix() const override;
+    SparseMatrix make_matrix() const override;
 
     /// Evaluates at world positions x (#N x 3) [m]: into K (reduced, from make_matrix(); may be
     /// null) the stiffness, and into f_int (3#N, resized; may be null) the elastic nodal forces [N]
     /// (including reactions on fixed DOFs). Corotated mode updates the cached cell rotations.
     /// No allocation once K and f_int have the right size.
-    void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) override;
+    void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) override;
 
     /// Elastic energy [J] at x: sum over cells of 1/2 u^T Ke u with the same local displacement u
     /// as the forces (Corotated: rotations of x, warm-started from the cached ones).

@@ -4,9 +4,9 @@
 // numbering, a fixed sparsity pattern and corotated forces and stiffness.
 #pragma once
 
+#include "polycut/common/sparse.hpp"
 #include "polycut/common/types.hpp"
 #include "polycut/elasticity/material.hpp"
-#include "polycut/solve/sparse.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -46,11 +46,11 @@ public:
 
     /// A reduced matrix (#free x #free, symmetric, full storage, every diagonal entry stored)
     /// with the model's sparsity pattern, all values zero.
-    virtual solve::SparseMatrix make_matrix() const = 0;
+    virtual SparseMatrix make_matrix() const = 0;
     /// Into K (reduced, from make_matrix(); may be null) the stiffness, into f_int (3#rows,
     /// resized; may be null) the elastic forces [N] at x. Corotated mode updates the cached
     /// cell rotations.
-    virtual void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) = 0;
+    virtual void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) = 0;
     /// Elastic energy [J] at x, consistent with the forces of `mode`.
     virtual double elastic_energy(const MatX3& x, ForceMode mode) const = 0;
     /// Per cell, the squared stretch at x (1 at rest and under rigid motion; +inf for

@@ -2,11 +2,13 @@
 // symmetric storage (both triangles), 32-bit indices.
 #pragma once
 
+#include "polycut/common/sparse.hpp"
+
 #include <Eigen/SparseCore>
 
 namespace polycut::solve {
 
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using SparseMatrix = polycut::SparseMatrix; ///< defined in common (models hand it out)
 using Vector = Eigen::VectorXd;
 
 /// Outcome of a linear solve.
