@@ -30,8 +30,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
     }
     if (!s.cutting) {
         cut::PipelineOptions opt;
-        opt.method
-            = s.scene.cutting.method == "snap" ? cut::CutMethod::Snap : cut::CutMethod::Split;
+        opt.method = s.scene.cutting.method == scene::CutMethod::Snap ? cut::CutMethod::Snap
+                                                                      : cut::CutMethod::Split;
         opt.split.snap = s.scene.cutting.snap_distance;
         opt.split.sliver_volume = s.scene.cutting.sliver_volume;
         s.cutting = std::make_unique<cut::CutPipeline>(s.mesh, s.initial_mesh, opt);
@@ -82,7 +82,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
         if (report.topology_changed) {
             resize_state_after_cut(report);
             check_cut_cells(report.changed_cells);
-            if (scene.integrator.type == "static")
+            if (scene.integrator.type == integrate::IntegratorKind::Static)
                 summary.pieces_fixed = fix_free_pieces();
         }
     } catch (const std::exception& e) {
@@ -115,7 +115,7 @@ void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
 
 double Simulation::blade_min_advance() const {
     const Impl& s = *m_impl;
-    if (s.scene.cutting.method == "snap")
+    if (s.scene.cutting.method == scene::CutMethod::Snap)
         return 0.0;
     constexpr double kMinAdvance = 0.25; // of the mean cell size
     return kMinAdvance * s.initial_cell_size;

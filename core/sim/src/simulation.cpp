@@ -34,7 +34,7 @@ double Simulation::time() const {
     return m_impl->time;
 }
 bool Simulation::is_static() const {
-    return m_impl->scene.integrator.type == "static";
+    return m_impl->scene.integrator.type == integrate::IntegratorKind::Static;
 }
 
 void Simulation::Impl::build() {
@@ -50,7 +50,7 @@ void Simulation::Impl::build() {
         max_cell_diameter = std::max(max_cell_diameter, box.diagonal());
     }
     mesh = initial_mesh;
-    if (scene.method == "dg") {
+    if (scene.method == scene::Method::Dg) {
         // DG (seed 003): the integrator steps the coefficients; nodes only carry the stitched
         // field (docs/decisions/0021). Fixed regions are weak, so no DOF is eliminated.
         model.reset();

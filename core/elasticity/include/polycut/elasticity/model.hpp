@@ -13,12 +13,6 @@
 
 namespace polycut::elasticity {
 
-/// How elastic forces and stiffness are evaluated.
-enum class ForceMode {
-    Linear, ///< small-strain linear elasticity, K constant
-    Corotated, ///< per-cell rotation from the affine fit's polar decomposition
-};
-
 /// What integrate::Integrator needs of a model. Rows: the state x is (#rows x 3) [m]; full DOF
 /// vectors are 3#rows long (row-major: 3 row + axis).
 class Model {
