@@ -110,6 +110,10 @@ void ElasticModel::compute_cell(Index c) {
     const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
     cd.nodes = cell.nodes;
     cd.integration = basis::integrate_cell(*m_mesh, c, m_options);
+    (cell.shape == mesh::CellShape::Tet          ? m_bases_built.p1
+            : cell.shape == mesh::CellShape::Hex ? m_bases_built.q1
+                                                 : m_bases_built.polyhedral)
+        += 1;
     cd.stiffness = element_stiffness(cd.integration, m_material, m_options.volumetric);
     const std::vector<Vec3> X = [&] {
         std::vector<Vec3> p;
@@ -153,15 +157,24 @@ void ElasticModel::compute_cell(Index c) {
     }
 }
 
+const VecX& ElasticModel::reduced_mass() const {
+    if (m_reduced_mass_stale) {
+        m_reduced_mass.resize(m_num_free);
+        for (Index r = 0; r < m_num_free; ++r)
+            m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
+        m_reduced_mass_stale = false;
+        m_inertia_built = true;
+    }
+    return m_reduced_mass;
+}
+
 void ElasticModel::rebuild_mass() {
     ++m_cell_version; // every change of cells or fixed DOFs ends here
     m_mass.setZero(m_mesh->num_nodes());
     for (const CellData& cd : m_cells)
         for (std::size_t i = 0; i < cd.nodes.size(); ++i)
             m_mass(cd.nodes[i]) += m_material.density * cd.integration.lumped_volume(Index(i));
-    m_reduced_mass.resize(m_num_free);
-    for (Index r = 0; r < m_num_free; ++r)
-        m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
+    m_reduced_mass_stale = true; // reduced_mass() gathers it when a dynamic step asks
     if (m_nodal)
         refresh_nodal();
 }

@@ -59,6 +59,8 @@ struct ActiveGrab {
 struct Simulation::Impl {
     scene::Scene scene;
     MeshingSummary meshing; ///< what CGAL meshing reported while building initial_mesh
+    /// The parts build() made, with their cost (build_report.cpp); [0] is the mesh
+    std::vector<BuildPart> build_parts;
     mesh::Mesh initial_mesh; ///< for reset()
     mesh::Mesh mesh;
     std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets

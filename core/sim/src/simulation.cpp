@@ -1,4 +1,5 @@
 // sim::Simulation: construction from a scene, stepping, forces and grabs.
+#include "build_clock.hpp"
 #include "impl.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
@@ -17,7 +18,9 @@ namespace polycut::sim {
 Simulation::Simulation(scene::Scene scene)
     : m_impl(std::make_unique<Impl>()) {
     m_impl->scene = std::move(scene);
+    PartClock clock;
     m_impl->initial_mesh = build_mesh(m_impl->scene, &m_impl->meshing);
+    clock.lap(m_impl->build_parts, "mesh", true);
     m_impl->build();
     m_impl->build_scripted_tools(*this);
 }
@@ -38,6 +41,8 @@ bool Simulation::is_static() const {
 }
 
 void Simulation::Impl::build() {
+    build_parts.resize(std::min<std::size_t>(build_parts.size(), 1)); // keep the mesh's
+    PartClock clock;
     cut_undo.reset();
     swept_area = 0;
     initial_cell_size = std::cbrt(
@@ -57,6 +62,7 @@ void Simulation::Impl::build() {
         node_fixed_mask.assign(3 * mesh.rest.size(), 0);
         scene_forces = VecX::Zero(3 * mesh.num_nodes());
         dg = make_dg_part(scene, mesh);
+        clock.lap(build_parts, "dg_model", true);
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
     } else {
         dg.reset();
@@ -64,9 +70,11 @@ void Simulation::Impl::build() {
         scene_forces = scene_loads(scene, mesh);
         model = std::make_unique<elasticity::ElasticModel>(
             mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
+        clock.lap(build_parts, "model", true);
         integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
         check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
     }
+    clock.lap(build_parts, "integrator", true);
     cutting.reset();
     cut_cells_left = scene.cutting.max_cells_per_tick;
     state = integrator->rest_state();
@@ -79,10 +87,14 @@ void Simulation::Impl::build() {
     tick = 0;
     time = 0;
     static_solved = false;
+    clock.lap(build_parts, "contact", contact != nullptr);
     sync_positions();
     refresh_topology();
+    clock.lap(build_parts, "surface", true);
     build_embedded();
+    clock.lap(build_parts, "embedded", embedded != nullptr);
     build_octree();
+    clock.lap(build_parts, "octree", octree != nullptr);
 }
 
 void Simulation::reset() {

@@ -54,8 +54,21 @@ public:
     void rest_rows(MatX3& X0) const override;
     const VecX& row_mass() const override { return m_mass; }
     void add_gravity(const Vec3& g, VecX& full) const override;
-    /// Lumped mass per reduced DOF (#free) [kg].
-    const VecX& reduced_mass() const override { return m_reduced_mass; }
+    /// Lumped mass per reduced DOF (#free) [kg]: the inertia of a dynamic step. Made on the first
+    /// call after a change of cells or fixed DOFs, so a static model never builds it (issue 17
+    /// item 6; inertia_built()).
+    const VecX& reduced_mass() const override;
+    /// Whether reduced_mass() was ever asked for (a dynamic integrator's inertia).
+    bool inertia_built() const { return m_inertia_built; }
+    /// Cell integrations (basis functions and quadrature) computed so far, by basis, counting the
+    /// recomputations after cuts: P1 for tets, Q1 for hexes, the polyhedral basis (mean value or
+    /// harmonic) for other cells.
+    struct BasisCounts {
+        long p1 = 0;
+        long q1 = 0;
+        long polyhedral = 0;
+    };
+    const BasisCounts& bases_built() const { return m_bases_built; }
     /// Value slot in the CSC arrays of the diagonal entry of each reduced DOF (#free).
     const std::vector<Index>& diagonal_slots() const { return m_diag_slots; }
     /// Cached integration data and stiffness of a cell.
@@ -175,7 +188,10 @@ private:
     std::vector<Mat3> m_rotation;
     std::vector<P1Cell> m_p1; ///< per cell; valid for one-point 4-node cells
     VecX m_mass;
-    VecX m_reduced_mass;
+    mutable VecX m_reduced_mass; ///< made by reduced_mass() when m_reduced_mass_stale
+    mutable bool m_reduced_mass_stale = true;
+    mutable bool m_inertia_built = false;
+    BasisCounts m_bases_built;
     std::vector<Index> m_dof_map;
     std::vector<Index> m_free_dofs; ///< reduced -> full
     Index m_num_free = 0;

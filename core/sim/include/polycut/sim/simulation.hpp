@@ -5,6 +5,7 @@
 
 #include "polycut/common/types.hpp"
 #include "polycut/scene/scene.hpp"
+#include "polycut/sim/build_report.hpp"
 #include "polycut/sim/tools.hpp"
 
 #include <array>
@@ -252,6 +253,9 @@ public:
     /// What meshing reported while the scene was built (meshed false if the geometry was not
     /// meshed by CGAL). Unchanged by reset() and cuts.
     const MeshingSummary& meshing_summary() const;
+    /// What the scene built and what each part cost at load (build_report.hpp); lazy parts say
+    /// whether they have been built since. reset() builds again and measures again.
+    BuildReport build_report() const;
     /// Node world positions (#N) [m].
     const std::vector<Vec3>& positions() const;
     /// Hash of the whole dynamic state (positions, velocities, topology) for determinism tests.
