@@ -10,6 +10,7 @@
 // a number, a quoted string in backticks (`"jacobi"`) or true/false (anything else, e.g.
 // "required" or "see below", is not a scalar and is skipped). The solver's `amg` row lists its
 // keys inline as "`key` (..., default X)".
+#include "polycut/common/error.hpp"
 #include "polycut/scene/scene.hpp"
 
 #include <cmath>
@@ -121,8 +122,8 @@ const std::map<std::string, std::string> kSections
 
 /// A scalar at the start of a default cell, if there is one.
 std::optional<Value> parse_scalar(const std::string& cell) {
-    static const std::regex quoted(R"(^`"([a-z_0-9]+)"`) ");
-        static const std::regex number(R"(^[-+]?[0-9][0-9.]*(e[-+]?[0-9]+)?)");
+    static const std::regex quoted(R"re(^`"([a-z_0-9]+)"`)re");
+    static const std::regex number(R"(^[-+]?[0-9][0-9.]*(e[-+]?[0-9]+)?)");
     static const std::regex boolean_re(R"(^(true|false)\b)");
     std::smatch m;
     if (std::regex_search(cell, m, quoted))
@@ -270,20 +271,20 @@ TEST(SceneDocs, DefaultConstructedSceneIsTheParsedOne) {
 TEST(SceneDocs, SceneDefaultsAreTheModuleDefaults) {
     // One source of truth (docs/decisions/0051): the scene's defaults are the option structs'.
     const Scene s;
-    const elasticity::Material material;
-    EXPECT_EQ(s.material.poisson_ratio, material.poisson_ratio);
-    EXPECT_EQ(s.material.density, material.density);
-    const basis::BasisOptions basis;
-    EXPECT_EQ(s.basis.harmonic_xi, basis.harmonic_xi);
-    EXPECT_EQ(s.basis.gauss_degree, basis.gauss_degree);
-    EXPECT_EQ(s.basis.rule, basis.rule);
-    EXPECT_EQ(s.basis.volumetric, basis.volumetric);
-    const dg::DgOptions dg;
-    EXPECT_EQ(s.basis.degree, dg.degree);
-    EXPECT_EQ(s.dg.flux, dg.flux);
-    EXPECT_EQ(s.dg.penalty, dg.penalty);
-    EXPECT_EQ(s.dg.dirichlet_penalty, dg.dirichlet_penalty);
-    EXPECT_EQ(s.dg.lambda_penalty, dg.lambda_penalty);
+    const elasticity::Material mat;
+    EXPECT_EQ(s.material.poisson_ratio, mat.poisson_ratio);
+    EXPECT_EQ(s.material.density, mat.density);
+    const basis::BasisOptions bo;
+    EXPECT_EQ(s.basis.harmonic_xi, bo.harmonic_xi);
+    EXPECT_EQ(s.basis.gauss_degree, bo.gauss_degree);
+    EXPECT_EQ(s.basis.rule, bo.rule);
+    EXPECT_EQ(s.basis.volumetric, bo.volumetric);
+    const dg::DgOptions dgo;
+    EXPECT_EQ(s.basis.degree, dgo.degree);
+    EXPECT_EQ(s.dg.flux, dgo.flux);
+    EXPECT_EQ(s.dg.penalty, dgo.penalty);
+    EXPECT_EQ(s.dg.dirichlet_penalty, dgo.dirichlet_penalty);
+    EXPECT_EQ(s.dg.lambda_penalty, dgo.lambda_penalty);
     const integrate::IntegratorOptions it;
     EXPECT_EQ(s.integrator.type, it.kind);
     EXPECT_EQ(s.integrator.dt, it.dt);

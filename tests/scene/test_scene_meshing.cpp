@@ -57,9 +57,10 @@ TEST(SceneMeshing, SurfaceFileDefaults) {
 
 TEST(SceneMeshing, SurfaceFileValidValues) {
     for (const char* mode : { "auto", "none", "pmp", "wrap" })
-        EXPECT_EQ(surface(std::string(R"("repair": ")") + mode + "\"").repair, mode);
+        EXPECT_STREQ(to_string(surface(std::string(R"("repair": ")") + mode + "\"").repair), mode);
     for (const char* mode : { "union", "largest", "refuse" })
-        EXPECT_EQ(surface(std::string(R"("components": ")") + mode + "\"").components, mode);
+        EXPECT_STREQ(
+            to_string(surface(std::string(R"("components": ")") + mode + "\"").components), mode);
 
     Geometry g = surface(R"("repair": "wrap", "wrap": {"alpha": 0.004, "offset": 2e-4})");
     EXPECT_DOUBLE_EQ(g.wrap_alpha, 0.004);

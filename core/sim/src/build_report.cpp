@@ -60,9 +60,9 @@ BuildReport Simulation::build_report() const {
             + std::to_string(b.q1) + " Q1, " + std::to_string(b.polyhedral) + " polyhedral (" + poly
             + "); element stiffness, lumped nodal masses (gravity loads, picking), "
             + std::to_string(s.model->num_free_dofs()) + " free DOFs";
-        BuildPart* inertia = part(r.parts, "inertia");
-        inertia->built = s.model->inertia_built();
-        inertia->detail = inertia->built
+        BuildPart* inertia_part = part(r.parts, "inertia");
+        inertia_part->built = s.model->inertia_built();
+        inertia_part->detail = inertia_part->built
             ? "per-DOF lumped mass of the dynamic step, made at the first step"
             : dynamic ? "made at the first dynamic step"
                       : "not needed: static equilibrium has no inertia";
@@ -71,9 +71,9 @@ BuildReport Simulation::build_report() const {
         part(r.parts, "dg_model")->detail = std::to_string(s.mesh.num_cells()) + " cells of degree "
             + std::to_string(s.scene.basis.degree) + ", face terms, stitching; "
             + std::to_string(s.dg->model->num_free_dofs()) + " DOFs";
-        BuildPart* inertia = part(r.parts, "inertia");
-        inertia->built = true;
-        inertia->detail = "the DG model's mass (part of dg_model)";
+        BuildPart* inertia_part = part(r.parts, "inertia");
+        inertia_part->built = true;
+        inertia_part->detail = "the DG model's mass (part of dg_model)";
     }
     part(r.parts, "integrator")->detail = std::string(scene::to_string(s.scene.integrator.type))
         + ", solver " + scene::to_string(s.scene.solver.type)
@@ -83,23 +83,25 @@ BuildReport Simulation::build_report() const {
         + "; matrices, factors and AMG hierarchies are set up at the first solve (inside the "
           "first step)";
     part(r.parts, "surface")->detail = "boundary and cut triangles for streaming";
-    BuildPart* contact = part(r.parts, "contact");
-    contact->built = s.contact != nullptr;
-    contact->detail = contact->built ? std::to_string(s.scene.obstacles.size()) + " obstacles, "
-            + std::to_string(s.tools.size()) + " tools"
-                                     : "no obstacles, tools or self contact";
-    BuildPart* embedded = part(r.parts, "embedded");
-    embedded->built = s.embedded != nullptr;
-    embedded->detail = embedded->built ? std::to_string(s.embedded_triangles.size()) + " triangles"
-                                       : "no embedded surface";
-    BuildPart* octree = part(r.parts, "octree");
-    octree->built = s.octree != nullptr;
-    octree->detail = octree->built ? "kept for stress refinement" : "no stress refinement";
-    BuildPart* cut = part(r.parts, "cut");
-    cut->built = s.cutting != nullptr;
-    cut->detail = cut->built ? std::string("cut pipeline (")
+    BuildPart* contact_part = part(r.parts, "contact");
+    contact_part->built = s.contact != nullptr;
+    contact_part->detail = contact_part->built ? std::to_string(s.scene.obstacles.size())
+            + " obstacles, " + std::to_string(s.tools.size()) + " tools"
+                                               : "no obstacles, tools or self contact";
+    BuildPart* embedded_part = part(r.parts, "embedded");
+    embedded_part->built = s.embedded != nullptr;
+    embedded_part->detail = embedded_part->built
+        ? std::to_string(s.embedded_triangles.size()) + " triangles"
+        : "no embedded surface";
+    BuildPart* octree_part = part(r.parts, "octree");
+    octree_part->built = s.octree != nullptr;
+    octree_part->detail
+        = octree_part->built ? "kept for stress refinement" : "no stress refinement";
+    BuildPart* cut_part = part(r.parts, "cut");
+    cut_part->built = s.cutting != nullptr;
+    cut_part->detail = cut_part->built ? std::string("cut pipeline (")
             + scene::to_string(s.scene.cutting.method) + "), made at the first cut"
-                             : "made at the first cut; none so far";
+                                       : "made at the first cut; none so far";
     return r;
 }
 
