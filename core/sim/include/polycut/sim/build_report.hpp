@@ -41,8 +41,17 @@ struct BuildReport {
     }
     /// Whether the part named `name` exists and is built.
     bool built(const std::string& name) const {
-        const BuildPart* p = find(name);
-        return p && p->built;
+        for (const BuildPart& p : parts)
+            if (p.name == name)
+                return p.built;
+        return false;
+    }
+    /// The detail of the part named `name` ("" when there is none).
+    std::string detail(const std::string& name) const {
+        for (const BuildPart& p : parts)
+            if (p.name == name)
+                return p.detail;
+        return {};
     }
 };
 
