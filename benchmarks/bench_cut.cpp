@@ -80,6 +80,7 @@ json run(const std::string& path, const Args& a) {
     scene::Scene sc
         = scene::parse_scene(j.dump(), std::filesystem::path(path).parent_path().string());
     sim::Simulation s(std::move(sc));
+    s.prepare_cutting(); // as the server does when it builds a scene, off the loop
     for (int k = 0; k < a.settle; ++k)
         s.step();
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);

@@ -118,7 +118,9 @@ void Session::load_scene_file(const std::string& path) {
     }
     std::string name
         = scene.name.empty() ? std::filesystem::path(path).stem().string() : scene.name;
-    install(std::make_unique<sim::Simulation>(std::move(scene)), std::move(name));
+    auto sim = std::make_unique<sim::Simulation>(std::move(scene));
+    sim->prepare_cutting(); // not in the first cut's tick
+    install(std::move(sim), std::move(name));
 }
 
 std::unique_ptr<sim::Simulation> Session::install(
@@ -285,7 +287,9 @@ protocol::Expected<PreparedScene, RpcError> Session::prepare_scene(
 BuiltScene Session::build_scene(PreparedScene prepared) {
     const bool named = prepared.named;
     try {
-        return std::make_unique<sim::Simulation>(std::move(prepared.scene));
+        auto sim = std::make_unique<sim::Simulation>(std::move(prepared.scene));
+        sim->prepare_cutting(); // here, off the loop, not in the first cut's tick
+        return sim;
     } catch (const std::exception& e) {
         return scene_error(e, named);
     }

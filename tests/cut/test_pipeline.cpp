@@ -1,12 +1,15 @@
 // cut::CutPipeline (issue 12 item 6): one validation with the triangle's index and corner, a
 // typed result, the budget of changed cells that defers the rest of a sweep to the next call
-// (and cuts the same in the end), and the Failed contract (mesh half cut, caller restores).
+// (and cuts the same in the end), the Failed contract (mesh half cut, the caller undoes), and the
+// undo journal: undo() gives back the mesh before the last call exactly, whatever the call did.
 #include "polycut/cut/completeness.hpp"
 #include "polycut/cut/fault_injection.hpp"
 #include "polycut/cut/invariants.hpp"
 #include "polycut/cut/pipeline.hpp"
 #include "polycut/mesh/builders.hpp"
 
+#include <cstdio>
+#include <cstdlib>
 #include <gtest/gtest.h>
 #include <limits>
 
@@ -38,6 +41,28 @@ std::vector<Triangle> stroke(int n) {
         out.push_back({ b0, b1, a1 });
     }
     return out;
+}
+
+/// Field by field, with the first difference in the message.
+void expect_same_mesh(const mesh::Mesh& a, const mesh::Mesh& b) {
+    ASSERT_EQ(a.rest.size(), b.rest.size());
+    for (std::size_t i = 0; i < a.rest.size(); ++i)
+        ASSERT_EQ(a.rest[i], b.rest[i]) << "node " << i;
+    ASSERT_EQ(a.faces.size(), b.faces.size());
+    for (std::size_t f = 0; f < a.faces.size(); ++f) {
+        ASSERT_EQ(a.faces[f].nodes, b.faces[f].nodes) << "face " << f;
+        ASSERT_EQ(a.faces[f].owner, b.faces[f].owner) << "face " << f;
+        ASSERT_EQ(a.faces[f].neighbour, b.faces[f].neighbour) << "face " << f;
+        ASSERT_EQ(a.faces[f].tag, b.faces[f].tag) << "face " << f;
+        ASSERT_EQ(a.faces[f].parent, b.faces[f].parent) << "face " << f;
+    }
+    ASSERT_EQ(a.cells.size(), b.cells.size());
+    for (std::size_t c = 0; c < a.cells.size(); ++c) {
+        ASSERT_EQ(a.cells[c].nodes, b.cells[c].nodes) << "cell " << c;
+        ASSERT_EQ(a.cells[c].faces, b.cells[c].faces) << "cell " << c;
+        ASSERT_EQ(a.cells[c].shape, b.cells[c].shape) << "cell " << c;
+        ASSERT_EQ(a.cells[c].parent, b.cells[c].parent) << "cell " << c;
+    }
 }
 
 class Pipeline : public ::testing::TestWithParam<bool> { };
@@ -157,12 +182,78 @@ TEST_P(Pipeline, FailureReportsAndLeavesTheRestoreToTheCaller) {
     EXPECT_FALSE(r.ok());
     EXPECT_NE(r.reason.find("injected"), std::string::npos) << r.reason;
     EXPECT_TRUE(snapshot) << "the caller must have been asked to snapshot before the change";
-    // The caller restores and the pipeline forgets: the next cut works.
-    m = uncut;
-    p.forget();
+    // The caller undoes: the mesh is the uncut one again, and the next cut works.
+    p.undo();
+    expect_same_mesh(m, uncut);
     const CutResult again = p.cut(stroke(2), m.rest);
     EXPECT_EQ(again.status, CutStatus::Applied) << again.reason;
     EXPECT_GT(again.swept_area, 0.0);
+}
+
+TEST_P(Pipeline, UndoGivesBackTheMeshBeforeTheLastCallExactly) {
+    // Strokes on the mesh's features (a blade in a grid plane, through nodes, along a cut
+    // already made, sliver-thin beside a grid plane) and between them, sample by sample as a
+    // scalpel sends them. Before each call the test copies the mesh; every third call is
+    // undone and must give that copy back field by field, then is cut again. The journal's own
+    // check (POLYCUT_CHECK_UNDO) compares its mirror with the mesh after every commit.
+    const bool snap = GetParam();
+    ::setenv("POLYCUT_CHECK_UNDO", "1", 1);
+    mesh::Mesh m = block(snap, 5);
+    const mesh::Mesh uncut = m;
+    CutPipeline p(m, uncut, options(snap));
+    struct Blade {
+        double y; ///< plane of the blade [m]
+        double z0, z1; ///< top and bottom edge [m]
+    };
+    const Blade blades[] = { { 0.4, 1.2, 0.3 }, // a grid plane (0.2 spacing)
+        { 0.4, 1.2, 0.5 }, // again along that cut
+        { 0.61, 1.2, 0.45 }, // between grid planes
+        { 0.6 + 1e-5, 1.2, 0.55 }, // a sliver away from a grid plane
+        { 0.2, 1.2, 0.6 } }; // through grid nodes (z 0.6 is a node plane)
+    int calls = 0, undone = 0;
+    for (const Blade& b : blades) {
+        constexpr int kSamples = 7;
+        for (int k = 0; k < kSamples; ++k) {
+            auto x = [&](int i) { return -0.2 + 1.4 * double(i) / kSamples; };
+            const std::vector<Triangle> sweep { { Vec3(x(k), b.y, b.z0), Vec3(x(k), b.y, b.z1),
+                                                    Vec3(x(k + 1), b.y, b.z0) },
+                { Vec3(x(k), b.y, b.z1), Vec3(x(k + 1), b.y, b.z1), Vec3(x(k + 1), b.y, b.z0) } };
+            const mesh::Mesh before = m;
+            CutResult r = p.cut(sweep, m.rest);
+            ASSERT_TRUE(r.ok()) << r.reason;
+            if (++calls % 3 == 0 && r.report.topology_changed) {
+                p.undo();
+                expect_same_mesh(m, before);
+                if (::testing::Test::HasFatalFailure())
+                    return;
+                ++undone;
+                r = p.cut(sweep, m.rest);
+                ASSERT_TRUE(r.ok()) << r.reason;
+            }
+        }
+        p.end_stroke();
+    }
+    // undo_all(): back to the last accept(), across several calls (the server's failed step).
+    p.accept();
+    const mesh::Mesh accepted = m;
+    for (double y : { 0.3, 0.7 }) {
+        const std::vector<Triangle> sweep { { Vec3(-0.2, y, 1.2), Vec3(-0.2, y, 0.5),
+            Vec3(1.2, y, 1.2) } };
+        ASSERT_TRUE(p.cut(sweep, m.rest).ok());
+    }
+    p.end_stroke();
+    p.undo_all();
+    expect_same_mesh(m, accepted);
+    ::unsetenv("POLYCUT_CHECK_UNDO");
+    EXPECT_GE(undone, 5);
+    InvariantOptions io;
+    io.volume_tol = snap ? 1e-3 : 1e-9;
+    const CutInvariants inv = check_cut_invariants(m, uncut.rest_volume(), io);
+    EXPECT_TRUE(inv.ok()) << inv.first_problem;
+    // At least one call renumbered (merged slivers or compacted nodes), so the journal's whole
+    // copy was exercised as well as the local one.
+    std::printf("calls %d, undone %d, whole-mesh mirror copies %llu\n", calls, undone,
+        static_cast<unsigned long long>(p.whole_mesh_copies()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Cutters, Pipeline, ::testing::Values(false, true),

@@ -2,6 +2,7 @@
 // cells, a mesh with a sliver layer.
 #pragma once
 
+#include "polycut/elasticity/material.hpp"
 #include "polycut/mesh/mesh.hpp"
 
 #include <string>
@@ -19,5 +20,14 @@ mesh::Mesh box_mesh(Kind kind, int n);
 std::vector<Index> faces_on_plane(const mesh::Mesh& m, int axis, double value);
 /// All boundary faces.
 std::vector<Index> all_boundary_faces(const mesh::Mesh& m);
+
+/// Soft tissue: E = 1e4 Pa, nu = 0.45, rho = 1000 kg/m^3.
+inline elasticity::Material tissue_material() {
+    elasticity::Material m;
+    m.youngs_modulus = 1e4;
+    m.poisson_ratio = 0.45;
+    m.density = 1000;
+    return m;
+}
 
 } // namespace polycut::dg::test

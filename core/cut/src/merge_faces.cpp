@@ -168,6 +168,7 @@ void compact_merged(Editor& ed, const std::vector<Index>& merged_into) {
         face.parent = survivor(face.parent);
     const std::vector<Index> face_map = compact_faces(m, dead);
     CutReport& r = *ed.report;
+    r.faces_renumbered = true;
     std::vector<Index> cut_faces;
     for (Index f : r.cut_faces)
         if (const Index g = survivor(f);

@@ -169,6 +169,7 @@ void merge_slivers(Editor& ed) {
 
     // Compact faces, then cells; renumber everything that refers to them.
     const std::vector<Index> face_map = compact_faces(m, dead_face);
+    r.faces_renumbered = true;
     std::vector<Index> cell_map(m.cells.size(), kNone);
     std::vector<mesh::Cell> cells;
     for (std::size_t c = 0; c < m.cells.size(); ++c)

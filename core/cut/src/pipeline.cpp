@@ -8,6 +8,7 @@
 #include "polycut/cut/world_to_rest.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "stroke_snap.hpp"
+#include "undo_journal.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -74,7 +75,8 @@ struct CutPipeline::Impl {
         : mesh(m)
         , uncut(u)
         , opt(o)
-        , cell_size(mean_cell_size(u)) { }
+        , cell_size(mean_cell_size(u))
+        , journal(m) { }
 
     mesh::Mesh& mesh;
     const mesh::Mesh& uncut;
@@ -89,6 +91,8 @@ struct CutPipeline::Impl {
     std::unique_ptr<WorldToRest> world_grid;
     /// Uniform grid over the uncut mesh at rest (built once).
     std::unique_ptr<WorldToRest> rest_grid;
+    /// The mesh before the last call that changed it (undo()).
+    detail::UndoJournal journal;
 
     bool snap() const { return opt.method == CutMethod::Snap; }
 
@@ -277,6 +281,31 @@ double CutPipeline::cell_size() const {
     return m_impl->cell_size;
 }
 
+void CutPipeline::prepare() {
+    m_impl->ensure_cutter();
+    m_impl->rest_cells();
+}
+
+void CutPipeline::undo() {
+    Impl& s = *m_impl;
+    s.journal.undo(s.mesh);
+    forget();
+}
+
+void CutPipeline::accept() {
+    m_impl->journal.accept(m_impl->mesh);
+}
+
+void CutPipeline::undo_all() {
+    Impl& s = *m_impl;
+    s.journal.undo_all(s.mesh);
+    forget();
+}
+
+std::uint64_t CutPipeline::whole_mesh_copies() const {
+    return m_impl->journal.whole_copies();
+}
+
 void CutPipeline::forget() {
     Impl& s = *m_impl;
     s.splitter.reset();
@@ -307,12 +336,15 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
     }
     if (rest.empty())
         return result;
+    // The previous call is accepted now: the undo mirror takes what it changed.
+    s.journal.commit(s.mesh);
     try {
         s.ensure_cutter();
         if (before_change)
             before_change();
         result.report = s.snap() ? s.snapper->cut(rest, max_changed_cells)
                                  : s.splitter->cut(rest, max_changed_cells);
+        s.journal.record(result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();
@@ -345,10 +377,12 @@ CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
     CutResult result;
     if (!s.snapper)
         return result;
+    s.journal.commit(s.mesh);
     try {
         if (before_change)
             before_change();
         result.report = s.snapper->finish_sweep();
+        s.journal.record(result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();

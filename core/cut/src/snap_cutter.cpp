@@ -128,6 +128,7 @@ void State::end() {
     r.nodes_after = m.num_nodes();
     r.cells_after = m.num_cells();
     r.volume_after = volume_now = tet_mesh_volume(m);
+    r.faces_renumbered = compacted;
     for (Index n = 0; n < m.num_nodes(); ++n) {
         if (at(node_old, n) != kNone)
             continue;

@@ -17,6 +17,7 @@
 #include "polycut/elasticity/rotation.hpp"
 
 #include <algorithm>
+#include <map>
 #include <string>
 
 namespace polycut::dg {
@@ -32,6 +33,32 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
     , m_material(material)
     , m_options(options)
     , m_dirichlet(std::move(dirichlet_faces)) {
+    build(nullptr, {}, dirichlet_axes);
+}
+
+DgModel::DgModel(const DgModel& old, const mesh::Mesh& mesh, const std::vector<Index>& source,
+    const std::vector<std::uint8_t>& unchanged, std::vector<Index> dirichlet_faces,
+    std::vector<std::uint8_t> dirichlet_axes)
+    : m_mesh(&mesh)
+    , m_material(old.m_material)
+    , m_options(old.m_options)
+    , m_dirichlet(std::move(dirichlet_faces)) {
+    // Old id of every cell whose integrals carry over (kNone: computed afresh).
+    std::vector<Index> reuse(std::size_t(mesh.num_cells()), kNone);
+    for (Index c = 0; c < mesh.num_cells(); ++c)
+        if (std::size_t(c) < source.size() && std::size_t(c) < unchanged.size()
+            && unchanged[std::size_t(c)] && source[std::size_t(c)] >= 0
+            && source[std::size_t(c)] < old.num_cells())
+            reuse[std::size_t(c)] = source[std::size_t(c)];
+    build(&old, reuse, dirichlet_axes);
+}
+
+void DgModel::build(const DgModel* old, const std::vector<Index>& reuse,
+    const std::vector<std::uint8_t>& dirichlet_axes) {
+    const mesh::Mesh& mesh = *m_mesh;
+    const elasticity::Material& material = m_material;
+    const DgOptions& options = m_options;
+    auto reused = [&](Index c) { return old ? reuse[std::size_t(c)] : kNone; };
     elasticity::validate(material);
     if (options.degree < 1 || options.degree > 2)
         throw InputError("basis.degree", "DG degree must be 1 or 2");
@@ -59,7 +86,13 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
     m_offset.resize(std::size_t(n_cells));
     for (Index c = 0; c < n_cells; ++c) {
         m_offset[std::size_t(c)] = m_num_coeffs;
-        m_bases.push_back(make_cell_basis(mesh.rest, mesh.cell_face_loops(c), options.degree, c));
+        if (const Index o = reused(c); o != kNone)
+            m_bases.push_back(old->m_bases[std::size_t(o)]);
+        else {
+            m_bases.push_back(
+                make_cell_basis(mesh.rest, mesh.cell_face_loops(c), options.degree, c));
+            ++m_cells_integrated;
+        }
         m_num_coeffs += m_bases.back().size();
     }
     m_rest.resize(m_num_coeffs, 3);
@@ -69,8 +102,44 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
         const CellBasis& b = m_bases[std::size_t(c)];
         m_rest.middleRows(offset(c), b.size()) = rest_coefficients(b);
         m_mass.segment(offset(c), b.size()).setConstant(material.density * b.volume);
-        m_volume_K.push_back(volume_stiffness(b));
+        const Index o = reused(c);
+        m_volume_K.push_back(o != kNone ? old->m_volume_K[std::size_t(o)] : volume_stiffness(b));
     }
+    // Old faces between (or of) carried-over cells, by their old cells: a face whose cells both
+    // carry over (a Dirichlet face: whose cell does) keeps its integrals (003 sec. 10: only the
+    // faces the cut touched are integrated again). A face is matched only when its cells share
+    // exactly one face in both meshes, with the same node count and Dirichlet role.
+    std::map<std::pair<Index, Index>, std::vector<std::size_t>> old_faces;
+    if (old)
+        for (std::size_t k = 0; k < old->m_faces.size(); ++k) {
+            const FaceData& fd = old->m_faces[k];
+            old_faces[{ fd.cells[0], fd.sides == 2 ? fd.cells[1] : kNone }].push_back(k);
+        }
+    std::map<std::pair<Index, Index>, int> new_count;
+    if (old)
+        for (Index f = 0; f < mesh.num_faces(); ++f) {
+            const mesh::Face& face = mesh.faces[std::size_t(f)];
+            const Index o0 = reused(face.owner);
+            const Index o1 = face.boundary() ? kNone : reused(face.neighbour);
+            if (o0 != kNone && (face.boundary() || o1 != kNone))
+                ++new_count[{ o0, o1 }];
+        }
+    auto carried_face = [&](Index f, bool dirichlet) -> const FaceData* {
+        if (!old)
+            return nullptr;
+        const mesh::Face& face = mesh.faces[std::size_t(f)];
+        const Index o0 = reused(face.owner);
+        const Index o1 = face.boundary() ? kNone : reused(face.neighbour);
+        if (o0 == kNone || (!face.boundary() && o1 == kNone))
+            return nullptr;
+        const auto it = old_faces.find({ o0, o1 });
+        if (it == old_faces.end() || it->second.size() != 1 || new_count[{ o0, o1 }] != 1)
+            return nullptr;
+        const FaceData& fd = old->m_faces[it->second.front()];
+        if ((fd.sides == 1) != dirichlet || fd.node_count != Index(face.nodes.size()))
+            return nullptr;
+        return &fd;
+    };
     m_rotation.assign(std::size_t(n_cells), Mat3::Identity());
 
     const double p2 = double(options.degree * options.degree);
@@ -82,11 +151,17 @@ DgModel::DgModel(const mesh::Mesh& mesh, const elasticity::Material& material,
         if (face.boundary() && !dirichlet)
             continue;
         FaceData fd;
+        if (const FaceData* was = carried_face(f, dirichlet))
+            fd.parts = was->parts;
+        else {
+            fd.parts = face_integral_parts(mesh.rest, face.nodes, m_bases[std::size_t(face.owner)],
+                face.boundary() ? nullptr : &m_bases[std::size_t(face.neighbour)]);
+            ++m_faces_integrated;
+        }
         fd.face = f;
+        fd.node_count = Index(face.nodes.size());
         fd.cells[0] = face.owner;
         fd.cells[1] = face.neighbour;
-        fd.parts = face_integral_parts(mesh.rest, face.nodes, m_bases[std::size_t(face.owner)],
-            face.boundary() ? nullptr : &m_bases[std::size_t(face.neighbour)]);
         fd.sides = fd.parts.front().sides;
         for (const FaceIntegrals& part : fd.parts)
             fd.area += part.area;

@@ -158,6 +158,8 @@ void Integrator::ensure_topology(StepReport& report) {
     if (!kept)
         m_solver.reset();
     m_solver.set_blocks(m_model->dof_blocks());
+    if (m_solver.wants_coarse_space())
+        m_solver.set_coarse_space(m_model->coarse_space());
     if (m_lagged) {
         // New pattern: the running job (if any) is for the old one. The next solve starts the
         // new factor in the background unless there never was a factor (the first solve

@@ -27,6 +27,13 @@ solve::PcgOptions pcg_options(const SolverOptions& o) {
     case LinearSolverKind::PcgAmg:
         p.preconditioner = solve::Preconditioner::Amg;
         break;
+    case LinearSolverKind::PcgTwoLevel:
+        p.preconditioner = solve::Preconditioner::TwoLevel;
+        // The smoother's blocks from the set-up's matrix: on the DG organ the same iterations
+        // as blocks of every solve's matrix, whose inversion cost more than the rest of the
+        // preconditioner (docs/decisions/0024).
+        p.two_level_fresh_smoother = false;
+        break;
     default:
         p.preconditioner = solve::Preconditioner::Jacobi;
     }

@@ -48,7 +48,8 @@ inline constexpr Name<SolverType> kSolverType[] = { { "cholmod", SolverType::Cho
 inline constexpr Name<Preconditioner> kPreconditioner[]
     = { { "jacobi", Preconditioner::Jacobi }, { "block_jacobi", Preconditioner::BlockJacobi },
           { "cell_block_jacobi", Preconditioner::CellBlockJacobi },
-          { "lagged_cholesky", Preconditioner::LaggedCholesky }, { "amg", Preconditioner::Amg } };
+          { "lagged_cholesky", Preconditioner::LaggedCholesky }, { "amg", Preconditioner::Amg },
+          { "two_level", Preconditioner::TwoLevel } };
 inline constexpr Name<WarmStart> kWarmStart[]
     = { { "previous", WarmStart::Previous }, { "extrapolated", WarmStart::Extrapolated } };
 inline constexpr Name<Distribution> kDistribution[]

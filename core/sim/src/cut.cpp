@@ -28,14 +28,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
         summary.triangles_deferred = int(world.size());
         return summary;
     }
-    if (!s.cutting) {
-        cut::PipelineOptions opt;
-        opt.method = s.scene.cutting.method == scene::CutMethod::Snap ? cut::CutMethod::Snap
-                                                                      : cut::CutMethod::Split;
-        opt.split.snap = s.scene.cutting.snap_distance;
-        opt.split.sliver_volume = s.scene.cutting.sliver_volume;
-        s.cutting = std::make_unique<cut::CutPipeline>(s.mesh, s.initial_mesh, opt);
-    }
+    s.ensure_cutting();
     std::unique_ptr<Impl::Snapshot> before;
     cut::CutResult result = s.cutting->cut(
         world, s.positions, budget > 0 ? s.cut_cells_left : 0, [&] { before = s.take_snapshot(); },
@@ -63,6 +56,22 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
     if (before)
         s.spare = std::move(before);
     return summary;
+}
+
+void Simulation::Impl::ensure_cutting() {
+    if (cutting)
+        return;
+    cut::PipelineOptions opt;
+    opt.method = scene.cutting.method == scene::CutMethod::Snap ? cut::CutMethod::Snap
+                                                                : cut::CutMethod::Split;
+    opt.split.snap = scene.cutting.snap_distance;
+    opt.split.sliver_volume = scene.cutting.sliver_volume;
+    cutting = std::make_unique<cut::CutPipeline>(mesh, initial_mesh, opt);
+}
+
+void Simulation::prepare_cutting() {
+    m_impl->ensure_cutting();
+    m_impl->cutting->prepare();
 }
 
 void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, Snapshot& before) {
@@ -94,7 +103,8 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
         return;
     }
     // Until the next step shows the cut model is sound, the state before the first cut of this
-    // tick stays at hand (Simulation::step undoes the cut when that step fails).
+    // tick stays at hand (Simulation::step undoes the cuts when that step fails; the pipeline
+    // keeps the mesh of that moment, CutPipeline::undo_all).
     if (summary.topology_changed && !cut_undo)
         cut_undo = std::make_unique<Snapshot>(std::move(before)); // before's buffers move along
 }
@@ -238,21 +248,25 @@ std::unique_ptr<Simulation::Impl::Snapshot> Simulation::Impl::take_snapshot() {
     snap->swept_area = swept_area;
     snap->topology = topology;
     snap->topology_version = topology_version;
-    mesh::pack(mesh, snap->mesh);
-    return snap;
+    return snap; // the mesh: the cut pipeline's undo mirror (CutPipeline::undo)
 }
 
 void Simulation::Impl::restore(const Snapshot& snap, bool published) {
-    mesh = mesh::unpack(snap.mesh);
+    if (!cutting)
+        throw Error("cut", "the mesh before the cut is no longer known");
+    // The cutters' adjacency and remembered sweeps refer to the failed edit: the undo forgets
+    // them. A published state (a failed step) goes back to before every cut since the last
+    // step, a failed cut to before that cut.
+    if (published)
+        cutting->undo_all();
+    else
+        cutting->undo();
     state = snap.state;
     node_fixed_mask = snap.node_fixed_mask;
     scene_forces = snap.scene_forces;
     forces = snap.forces;
     grabs = snap.grabs;
     swept_area = snap.swept_area;
-    // The cutters' adjacency and remembered sweeps refer to the failed edit: start them afresh.
-    if (cutting)
-        cutting->forget();
     if (dg) {
         dg = make_dg_part(scene, mesh); // the restored mesh's cells, in their old order
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));

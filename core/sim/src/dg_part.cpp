@@ -113,11 +113,17 @@ VecX dg_scene_loads(const scene::Scene& s, const mesh::Mesh& m, const dg::DgMode
 }
 } // namespace
 
-std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m) {
+std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m,
+    const dg::DgModel* old, const std::vector<Index>& source,
+    const std::vector<std::uint8_t>& unchanged) {
     auto part = std::make_unique<DgPart>();
     DgDirichlet fixed = dg_dirichlet_faces(s, m);
-    part->model = std::make_unique<dg::DgModel>(
-        m, elasticity_material(s), dg_options(s), std::move(fixed.faces), std::move(fixed.axes));
+    if (old)
+        part->model = std::make_unique<dg::DgModel>(
+            *old, m, source, unchanged, std::move(fixed.faces), std::move(fixed.axes));
+    else
+        part->model = std::make_unique<dg::DgModel>(m, elasticity_material(s), dg_options(s),
+            std::move(fixed.faces), std::move(fixed.axes));
     part->stitching = std::make_unique<dg::Stitching>(*part->model);
     part->scene_load = dg_scene_loads(s, m, *part->model, *part->stitching);
     return part;
@@ -147,7 +153,8 @@ std::unique_ptr<DgPart> dg_after_cut(const DgPart& old, const scene::Scene& s, c
     for (Index c = 0; c < n_cells; ++c)
         if (source[std::size_t(c)] == kNone)
             throw Error("cut", "cell " + std::to_string(c) + " has no cell it came from");
-    auto part = make_dg_part(s, m);
+    // Only the cells and faces the cut changed are integrated again (issue 13 item 6).
+    auto part = make_dg_part(s, m, &om, source, unchanged);
     const dg::DgModel& nm = *part->model;
     const MatX3 u = dg::transfer_field(om, x - om.rest(), nm, source, unchanged);
     v = dg::transfer_field(om, v, nm, source, unchanged);

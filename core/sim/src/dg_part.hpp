@@ -35,8 +35,12 @@ struct DgDirichlet {
 DgDirichlet dg_dirichlet_faces(const scene::Scene& s, const mesh::Mesh& m);
 
 /// Builds the DG model, its stitching and the scene's loads: area forces and pressures as
-/// exact face tractions, point and uniform forces through the stitching's adjoint.
-std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m);
+/// exact face tractions, point and uniform forces through the stitching's adjoint. With `old`
+/// (the model before a cut edited `m`), the model re-integrates only the cells not flagged in
+/// `unchanged` (source: old id of each cell) and their faces (dg::DgModel's update constructor).
+std::unique_ptr<DgPart> make_dg_part(const scene::Scene& s, const mesh::Mesh& m,
+    const dg::DgModel* old = nullptr, const std::vector<Index>& source = {},
+    const std::vector<std::uint8_t>& unchanged = {});
 
 /// After a cut edited the mesh `m` (core/cut's cell splitting, report `report`): a new DG part
 /// on it, and the state carried over. Every cell takes the polynomial of the cell it came from

@@ -7,7 +7,6 @@
 #include "polycut/integrate/integrator.hpp"
 #include "polycut/integrate/options.hpp"
 #include "polycut/mesh/mesh.hpp"
-#include "polycut/mesh/packed.hpp"
 #include "polycut/sim/simulation.hpp"
 #include "polycut/surface/extract.hpp"
 
@@ -70,12 +69,14 @@ struct Simulation::Impl {
     std::unique_ptr<integrate::Integrator> integrator;
     /// World sweep triangles to cuts (core/cut's one pipeline; made on the first cut).
     std::unique_ptr<cut::CutPipeline> cutting;
+    /// Makes `cutting` for the current mesh if there is none.
+    void ensure_cutting();
     /// Cells the cuts of this tick may still change (scene cutting.max_cells_per_tick; reset
     /// by step()); the triangles past it are deferred to the next tick.
     Index cut_cells_left = 0;
-    /// What a cut may change, kept so a failed cut can be undone.
+    /// The state a cut may change, kept so a failed cut can be undone. The mesh is not in it:
+    /// the cut pipeline keeps the mesh before its last call (CutPipeline::undo).
     struct Snapshot {
-        mesh::PackedMesh mesh; ///< flat: a cut's undo must not cost a copy of every face vector
         integrate::State state;
         std::vector<std::uint8_t> node_fixed_mask;
         VecX scene_forces;
@@ -85,17 +86,15 @@ struct Simulation::Impl {
         surface::Topology topology;
         std::uint64_t topology_version = 0;
     };
-    /// The mesh and state a cut may change, packed into the buffers of a snapshot no longer
-    /// needed (`spare`): the flat
-    /// arrays keep their capacity, so a cut's undo copy writes into memory already mapped
-    /// instead of fresh pages (issue 12 item 5).
+    /// The state a cut may change, copied into the buffers of a snapshot no longer needed
+    /// (`spare`), so the copy writes into memory already mapped.
     std::unique_ptr<Snapshot> take_snapshot();
     std::unique_ptr<Snapshot> spare;
     /// The state before the first cut since the last step: kept until that step has shown the
     /// cut mesh is mechanically sound; a step that fails right after a cut undoes the cut too.
     std::unique_ptr<Snapshot> cut_undo;
-    /// Puts the mesh and state back as they were and rebuilds the model. The surface topology
-    /// and its version come back too when nothing was published since the snapshot
+    /// Puts the mesh (CutPipeline::undo) and state back as they were and rebuilds the model. The
+    /// surface topology and its version come back too when nothing was published since the snapshot
     /// (`published` false: a failed cut changes nothing a client can see); otherwise the old
     /// topology gets a new version, so clients that saw the cut fetch it again.
     void restore(const Snapshot& snap, bool published = false);

@@ -180,6 +180,8 @@ integrate::LinearSolverKind linear_solver_kind(const scene::Solver& sv) {
         return K::PcgLagged;
     case scene::Preconditioner::Amg:
         return K::PcgAmg;
+    case scene::Preconditioner::TwoLevel:
+        return K::PcgTwoLevel;
     case scene::Preconditioner::Jacobi:
         break;
     }

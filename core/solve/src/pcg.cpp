@@ -8,6 +8,7 @@
 #include "amg_preconditioner.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/solve/background_cholesky.hpp"
+#include "two_level.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/IterativeLinearSolvers>
@@ -35,6 +36,8 @@ const char* to_string(Preconditioner p) {
         return "amg";
     case Preconditioner::BlockJacobi:
         return "block_jacobi";
+    case Preconditioner::TwoLevel:
+        return "two_level";
     }
     return "unknown";
 }
@@ -64,6 +67,8 @@ struct PcgSolver::Impl {
     // BlockJacobi: block starts (set_blocks) and the inverse blocks, column-major, packed
     std::vector<long> block_starts;
     std::vector<double> inv_cell_blocks;
+    // TwoLevel: smoother plus lagged Galerkin coarse space
+    detail::TwoLevelPreconditioner two_level;
     // LaggedCholesky
     CholmodSolver factor;
     int solves_since_refactor = 0;
@@ -158,41 +163,7 @@ struct PcgSolver::Impl {
     }
 
     SolveStatus setup_cell_blocks(const SparseMatrix& A) {
-        const long n = A.rows();
-        if (block_starts.size() < 2 || block_starts.front() != 0 || block_starts.back() != n)
-            return SolveStatus::NotReady;
-        std::size_t total = 0;
-        for (std::size_t b = 0; b + 1 < block_starts.size(); ++b) {
-            const long size = block_starts[b + 1] - block_starts[b];
-            total += std::size_t(size * size);
-        }
-        inv_cell_blocks.resize(total);
-        const int* inner = A.innerIndexPtr();
-        const double* values = A.valuePtr();
-        std::size_t at = 0;
-        Eigen::MatrixXd block;
-        for (std::size_t b = 0; b + 1 < block_starts.size(); ++b) {
-            const long s = block_starts[b], size = block_starts[b + 1] - s;
-            block.setZero(size, size);
-            for (long c = 0; c < size; ++c) {
-                const int col = static_cast<int>(s + c);
-                const int begin = A.outerIndexPtr()[col];
-                const int end = A.isCompressed() ? A.outerIndexPtr()[col + 1]
-                                                 : begin + A.innerNonZeroPtr()[col];
-                const int* it = std::lower_bound(inner + begin, inner + end, int(s));
-                for (; it != inner + end && *it < s + size; ++it)
-                    block(*it - s, c) = values[it - inner];
-            }
-            if (!block.allFinite())
-                return SolveStatus::NonFinite;
-            const Eigen::LLT<Eigen::MatrixXd> llt(block);
-            if (llt.info() != Eigen::Success)
-                return SolveStatus::NotPositiveDefinite;
-            Eigen::Map<Eigen::MatrixXd>(inv_cell_blocks.data() + at, size, size)
-                = llt.solve(Eigen::MatrixXd::Identity(size, size));
-            at += std::size_t(size * size);
-        }
-        return SolveStatus::Ok;
+        return detail::invert_diagonal_blocks(A, block_starts, inv_cell_blocks);
     }
 
     /// z = M^-1 r (A: the system matrix, for the fused AMG cycle).
@@ -231,6 +202,8 @@ struct PcgSolver::Impl {
             return SolveStatus::Ok;
         case Preconditioner::Amg:
             return amg.apply(A, r, z);
+        case Preconditioner::TwoLevel:
+            return two_level.apply(r, z);
         }
         return SolveStatus::NotReady;
     }
@@ -350,6 +323,16 @@ struct PcgSolver::Impl {
         return SolveStatus::Ok;
     }
 
+    /// (Re)builds the two-level preconditioner's coarse part and smoother from A.
+    SolveStatus setup_two_level(const SparseMatrix& A) {
+        ++refactorizations;
+        two_level.set_smoother(block_starts, options.two_level_weight);
+        if (const SolveStatus s = two_level.setup(A); s != SolveStatus::Ok)
+            return s;
+        mark_refactored();
+        return SolveStatus::Ok;
+    }
+
     /// Chooses and prepares the preconditioner of this solve.
     SolveStatus prepare(const SparseMatrix& A, PcgResult& result) {
         Preconditioner use = options.preconditioner;
@@ -407,6 +390,25 @@ struct PcgSolver::Impl {
             if (amg_handover > 0)
                 --amg_handover;
         }
+        if (use == Preconditioner::TwoLevel) {
+            if (two_level.space_rows() != A.rows() || block_starts.size() < 2
+                || block_starts.back() != A.rows()) {
+                use = Preconditioner::BlockJacobi; // no coarse space of this size
+            } else {
+                const bool due = two_level.size() != A.rows()
+                    || (options.refactor_every > 0
+                        && solves_since_refactor >= options.refactor_every)
+                    || refactor_requested;
+                two_level.set_smoother(block_starts, options.two_level_weight);
+                if (due || two_level.size() != A.rows()) {
+                    if (const SolveStatus s = setup_two_level(A); s != SolveStatus::Ok)
+                        return s;
+                } else if (options.two_level_fresh_smoother) {
+                    if (const SolveStatus s = two_level.refresh_smoother(A); s != SolveStatus::Ok)
+                        return s;
+                }
+            }
+        }
         if (use == Preconditioner::BlockJacobi
             && (block_starts.size() < 2 || block_starts.back() != A.rows()))
             use = Preconditioner::BlockJacobi3; // no blocks of this size: 3x3 ones
@@ -439,6 +441,7 @@ void PcgSolver::reset() {
     m_impl->factor = CholmodSolver {};
     m_impl->amg.clear();
     m_impl->ic_size = -1;
+    m_impl->two_level.clear();
     m_impl->drop_amg_job();
     m_impl->solves_since_refactor = 0;
     m_impl->refactor_requested = false;
@@ -482,10 +485,12 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     // A stale lagged factor (or AMG hierarchy) that cannot reach the tolerance: refactor once and
     // go on from x.
     const bool lagged = (result.used == Preconditioner::LaggedCholesky && !impl.background)
-        || result.used == Preconditioner::Amg;
+        || result.used == Preconditioner::Amg || result.used == Preconditioner::TwoLevel;
     if (result.status == SolveStatus::NotConverged && lagged && !result.refactored) {
         if (result.used == Preconditioner::Amg) {
             result.status = impl.setup_amg(A);
+        } else if (result.used == Preconditioner::TwoLevel) {
+            result.status = impl.setup_two_level(A);
         } else {
             ++impl.refactorizations;
             result.status = impl.factor.factorize(A);
@@ -544,6 +549,10 @@ void PcgSolver::set_coordinates(const Vector& coordinates) {
 
 void PcgSolver::set_blocks(std::vector<long> starts) {
     m_impl->block_starts = std::move(starts);
+}
+
+void PcgSolver::set_coarse_space(const SparseMatrix& P) {
+    m_impl->two_level.set_coarse_space(P);
 }
 
 bool PcgSolver::remap_preconditioner(const std::vector<long>& old_of) {

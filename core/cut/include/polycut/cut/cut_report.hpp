@@ -59,6 +59,9 @@ struct CutReport {
     Index triangles = 0; ///< sweep triangles processed
     Index triangles_missed = 0; ///< triangles that touched no cell (no change)
     bool topology_changed = false; ///< any node, face or cell changed
+    /// The face table was compacted or rebuilt (sliver merges, merged cut faces, face
+    /// snapping's degeneracy removal): face ids before and after the call do not correspond.
+    bool faces_renumbered = false;
     /// The stiffness sparsity pattern changed (new nodes or new node pairs in a cell); the solver
     /// must re-analyse.
     bool pattern_changed = false;

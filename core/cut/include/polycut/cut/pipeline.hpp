@@ -14,6 +14,7 @@
 #include "polycut/cut/snap_cutter.hpp"
 #include "polycut/mesh/mesh.hpp"
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
@@ -77,7 +78,7 @@ public:
     /// stops after the triangle that brings the cells it changed (split or rewritten) to that
     /// many, and the rest is Deferred; at least one triangle is cut, so a stroke advances. The
     /// budget is a count, not a time, so a replayed command log cuts the same. Rejected leaves
-    /// everything as it was. Failed leaves the mesh half cut: restore it and call forget().
+    /// everything as it was. Failed leaves the mesh half cut: call undo().
     /// `before_change` runs once right before the mesh is first changed (to snapshot what the
     /// caller must undo), and not at all when nothing is to be cut. Never throws for bad input or a
     /// failing cutter. With `max_triangles` > 0 at most that many mapped triangles are cut and
@@ -88,6 +89,23 @@ public:
     /// Ends the current stroke: forgets its corners; face snapping cuts the faces it held back
     /// (their pinched edges split), so a stroke ends complete. Same contract as cut().
     CutResult end_stroke(const std::function<void()>& before_change = {});
+    /// Puts the mesh back as it was before the last call that changed it (after a Failed call,
+    /// or when the caller finds the cut unsound) and forgets what was derived from the cut mesh.
+    /// The pipeline keeps a mirror of the mesh for this, brought up to date at the start of each
+    /// call from what the previous call reported it changed (issue 12 item 5: no copy of the
+    /// mesh per cut); the undo itself copies the mirror back.
+    void undo();
+    /// The cuts so far are sound (the step after them succeeded): undo_all() comes back to here.
+    void accept();
+    /// Puts the mesh back as it was at the last accept() (or when the pipeline was made): every
+    /// call since is undone, when the step after them failed.
+    void undo_all();
+    /// How many calls were mirrored by a whole copy of the mesh (calls that renumbered cells,
+    /// faces or nodes); the others copied only what they changed.
+    std::uint64_t whole_mesh_copies() const;
+    /// Builds the cutter (its adjacency and caches) and the grid of the uncut mesh now, so the
+    /// first call does not pay for them.
+    void prepare();
     /// Forgets everything derived from the mesh (after the caller restored it).
     void forget();
     /// Mean cell size of the uncut mesh [m]: the cube root of its mean cell volume.

@@ -45,6 +45,16 @@ public:
     /// material, MeshError naming a cell whose basis cannot be built.
     DgModel(const mesh::Mesh& mesh, const elasticity::Material& material, const DgOptions& options,
         std::vector<Index> dirichlet_faces = {}, std::vector<std::uint8_t> dirichlet_axes = {});
+    /// The model of `mesh` after an edit (a cut) of the mesh `old` was built on, re-integrating
+    /// only what the edit touched (003 sec. 10, issue 13 item 6): cell c with unchanged[c] != 0
+    /// takes the basis and volume matrix of old cell source[c], and a face whose cells both
+    /// carry over (a Dirichlet face: whose cell does) takes the old face's integrals; the
+    /// rest is integrated afresh, then the operator is assembled. Equal to
+    /// DgModel(mesh, old's material and options, dirichlet_faces, dirichlet_axes) when the
+    /// flags are right (cells flagged unchanged have the old cell's geometry and node order).
+    DgModel(const DgModel& old, const mesh::Mesh& mesh, const std::vector<Index>& source,
+        const std::vector<std::uint8_t>& unchanged, std::vector<Index> dirichlet_faces,
+        std::vector<std::uint8_t> dirichlet_axes);
 
     const mesh::Mesh& mesh() const { return *m_mesh; }
     const elasticity::Material& material() const override { return m_material; }
@@ -57,6 +67,11 @@ public:
     /// Face penalty eta_F / (modulus) [1/m] of global face f (0 for faces without terms).
     double face_penalty(Index f) const;
     const std::vector<Index>& dirichlet_faces() const { return m_dirichlet; }
+    /// Cells whose basis and volume matrix, and faces (interior and Dirichlet) whose integrals
+    /// this model computed itself rather than carried over (all of them unless built by the
+    /// update constructor).
+    Index cells_integrated() const { return m_cells_integrated; }
+    Index faces_integrated() const { return m_faces_integrated; }
 
     /// Rest coefficients X0 (#coeffs x 3) [m]: the identity map on every cell.
     const MatX3& rest() const { return m_rest; }
@@ -116,6 +131,10 @@ public:
     bool rows_are_points() const override { return false; }
     /// One block per cell: its 3 nb coefficient DOFs.
     std::vector<long> dof_blocks() const override;
+    /// The continuous P1 field on the mesh's nodes (3 columns per node some cell uses), carried
+    /// to each cell as the least-squares affine fit of its nodal values (coarse_space.cpp): the
+    /// coarse level of the two-level preconditioner (docs/decisions/0024).
+    solve::SparseMatrix coarse_space() const override;
 
     /// Displacement u at rest point X in cell c from generalised positions x [m].
     Vec3 displacement(const MatX3& x, Index cell, const Vec3& X) const;
@@ -132,7 +151,11 @@ private:
         double area = 0; ///< |F| [m^2]
         double eta = 0; ///< alpha p^2 |F| / min |K| [1/m]
         Vec3 axes = Vec3::Ones(); ///< Dirichlet faces: 1 for a fixed component, else 0
+        Index node_count = 0; ///< nodes of the face's loop
     };
+    /// The constructors' work; reuse[c]: old id of a cell whose integrals `old` carries.
+    void build(const DgModel* old, const std::vector<Index>& reuse,
+        const std::vector<std::uint8_t>& dirichlet_axes);
     /// Face block (s, t) of the consistency term A^{st} (3nb_s x 3nb_t) (see the .cpp).
     MatX consistency_block(const FaceData& fd, int s, int t) const;
     MatX penalty_block(const FaceData& fd, int s, int t) const;
@@ -175,6 +198,7 @@ private:
     MatX3 m_rest;
     VecX m_mass;
     std::vector<Mat3> m_rotation;
+    Index m_cells_integrated = 0, m_faces_integrated = 0;
 };
 
 /// DOF index of coefficient row k, axis a.

@@ -68,6 +68,10 @@ public:
     /// Starts of strongly coupled blocks of reduced DOFs (ascending, first 0, last #free), for
     /// a block-Jacobi preconditioner; empty: none (3x3 node blocks serve).
     virtual std::vector<long> dof_blocks() const { return {}; }
+    /// Prolongation (#free x nc) from a coarse space to the reduced DOFs, for a two-level
+    /// preconditioner (DG: the continuous P1 field on the mesh nodes, docs/decisions/0024);
+    /// empty: none.
+    virtual solve::SparseMatrix coarse_space() const { return {}; }
 };
 
 } // namespace polycut::elasticity

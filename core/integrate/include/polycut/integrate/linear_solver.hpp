@@ -37,6 +37,9 @@ public:
     void set_absolute_tolerance(double tolerance) { m_pcg.set_absolute_tolerance(tolerance); }
     /// PcgCellBlockJacobi: the starts of the reduced system's diagonal blocks.
     void set_blocks(std::vector<long> starts) { m_pcg.set_blocks(std::move(starts)); }
+    /// PcgTwoLevel: the coarse space's prolongation (solve::PcgSolver::set_coarse_space).
+    void set_coarse_space(const solve::SparseMatrix& P) { m_pcg.set_coarse_space(P); }
+    bool wants_coarse_space() const { return m_options.kind == LinearSolverKind::PcgTwoLevel; }
     /// The AMG hierarchy wants node coordinates (PcgAmg with AmgOptions::rigid_body_modes).
     bool wants_coordinates() const {
         return m_options.kind == LinearSolverKind::PcgAmg && m_options.amg.rigid_body_modes;

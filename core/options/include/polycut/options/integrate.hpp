@@ -36,6 +36,11 @@ enum class LinearSolverKind {
     /// PCG preconditioned by one V-cycle of a lagged algebraic multigrid hierarchy (hypre
     /// BoomerAMG, systems AMG with 3 unknowns per node), set up again on the PcgLagged schedule
     PcgAmg,
+    /// PCG preconditioned by a two-level method: block Jacobi over the model's DOF blocks as
+    /// smoother, the model's coarse space (elasticity::Model::coarse_space(); DG: P1 on the
+    /// nodes) as a lagged Galerkin coarse level (docs/decisions/0024); cell block Jacobi for a
+    /// model without a coarse space
+    PcgTwoLevel,
     /// Unpreconditioned CG relaxation of seed 002 sec. 3.1 (fixed DOFs eliminated; stops at
     /// ||r|| < tol ||b||), warm-started; the solver Nienhuys' static cutting simulator used.
     CgRelaxation,

@@ -42,7 +42,7 @@ enum class OctreeObject { Box, Implicit, SurfaceFile };
 enum class OctreeKeep { Centre, Cover };
 /// The linear solver family; with Pcg, the preconditioner picks the variant.
 enum class SolverType { Cholmod, Pcg, CgRelaxation };
-enum class Preconditioner { Jacobi, BlockJacobi, CellBlockJacobi, LaggedCholesky, Amg };
+enum class Preconditioner { Jacobi, BlockJacobi, CellBlockJacobi, LaggedCholesky, Amg, TwoLevel };
 /// Initial guess of an implicit step's velocity increment.
 enum class WarmStart { Previous, Extrapolated };
 /// How a region force is spread over its nodes.
@@ -225,7 +225,8 @@ struct Integrator {
 struct Solver {
     SolverType type = SolverType::Pcg; ///< cholmod, pcg or cg_relaxation (002 sec. 3.1)
     /// pcg: jacobi, block_jacobi, cell_block_jacobi (dg: one block per cell), lagged_cholesky,
-    /// amg (hypre BoomerAMG)
+    /// amg (hypre BoomerAMG), two_level (dg: cell block Jacobi plus a P1 coarse space on the
+    /// nodes, docs/decisions/0024)
     Preconditioner preconditioner = Preconditioner::Jacobi;
     /// relative residual [dimensionless]
     double tolerance = integrate::SolverOptions {}.relative_tolerance;

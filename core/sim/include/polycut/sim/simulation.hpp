@@ -219,6 +219,10 @@ public:
     /// `max_triangles` > 0 also caps the triangles cut in this call (the rest is Deferred; the
     /// server's per-tick triangle budget, protocol Limits::cut_triangles_per_tick).
     CutSummary cut(const std::vector<std::array<Vec3, 3>>& world_triangles, int max_triangles = 0);
+    /// Builds what cutting needs (the cut pipeline's cutter and adjacency, its grid of the uncut
+    /// mesh and its undo mirror) now instead of in the first cut's tick: the server calls it
+    /// where it builds a scene, off the loop. Optional; cut() builds whatever is missing.
+    void prepare_cutting();
     /// How far a scalpel blade should move between the samples a client's stroke is swept
     /// from [m]: cell splitting cuts strips at least a quarter of the mean cell size wide (one
     /// sliver strip per tick from a slowly moving blade makes slivers, and costs a cut each);

@@ -17,7 +17,10 @@ namespace polycut::solve {
 /// between solves and refresh it on the schedule of PcgOptions (refactor_every /
 /// refactor_iterations). Amg: one V-cycle of hypre BoomerAMG (systems AMG, see AmgOptions).
 /// BlockJacobi: the inverses of the diagonal blocks set by set_blocks() (per DG cell, say); 3x3
-/// blocks (BlockJacobi3) while none are set.
+/// blocks (BlockJacobi3) while none are set. TwoLevel: that block Jacobi as the smoother of a
+/// Galerkin coarse space P (set_coarse_space(); for DG the P1 field on the mesh nodes,
+/// docs/decisions/0024), B = W + (I - W A) P (P^T A P)^-1 P^T (I - A W); its coarse part is lagged
+/// like the CHOLMOD factor; BlockJacobi while no P of A's size is set.
 enum class Preconditioner {
     None,
     Jacobi,
@@ -26,10 +29,11 @@ enum class Preconditioner {
     IncompleteCholesky,
     Amg,
     BlockJacobi,
+    TwoLevel,
 };
 
 /// Name of a preconditioner ("none", "jacobi", "block_jacobi3", "lagged_cholesky",
-/// "incomplete_cholesky", "amg", "block_jacobi").
+/// "incomplete_cholesky", "amg", "block_jacobi", "two_level").
 const char* to_string(Preconditioner p);
 
 struct PcgOptions {
@@ -59,6 +63,11 @@ struct PcgOptions {
     /// solve(). Until the new factor is ready, solve() keeps using the old one, or
     /// BlockJacobi3 if the old one has the wrong size (after a cut).
     bool background_refactor = false;
+    /// TwoLevel: weight omega of the block-Jacobi smoother W = omega D^-1 (dimensionless)
+    double two_level_weight = 1.0;
+    /// TwoLevel: invert the smoother's blocks of every solve's matrix (true) or only at the
+    /// lagged set-up of the coarse part (false)
+    bool two_level_fresh_smoother = true;
 };
 
 struct PcgResult {
@@ -115,6 +124,9 @@ public:
     /// BlockJacobi: where the diagonal blocks start (ascending, first 0, last n = the size; e.g.
     /// the DOFs of each DG cell). Copied; used from the next solve on.
     void set_blocks(std::vector<long> starts);
+    /// TwoLevel: the prolongation P (n x nc) from the coarse space to the unknowns. Copied; the
+    /// next solve sets the preconditioner up again.
+    void set_coarse_space(const SparseMatrix& P);
     /// Number of lagged factorizations (or AMG set-ups) done so far (foreground and background).
     int refactorizations() const;
     /// Amg: levels of the current hierarchy (0 before the first set-up).
