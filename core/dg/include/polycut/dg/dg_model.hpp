@@ -134,7 +134,7 @@ public:
     /// The continuous P1 field on the mesh's nodes (3 columns per node some cell uses), carried
     /// to each cell as the least-squares affine fit of its nodal values (coarse_space.cpp): the
     /// coarse level of the two-level preconditioner (docs/decisions/0024).
-    solve::SparseMatrix coarse_space() const override;
+    SparseMatrix coarse_space() const override;
 
     /// Displacement u at rest point X in cell c from generalised positions x [m].
     Vec3 displacement(const MatX3& x, Index cell, const Vec3& X) const;

@@ -71,7 +71,7 @@ public:
     /// Prolongation (#free x nc) from a coarse space to the reduced DOFs, for a two-level
     /// preconditioner (DG: the continuous P1 field on the mesh nodes, docs/decisions/0024);
     /// empty: none.
-    virtual solve::SparseMatrix coarse_space() const { return {}; }
+    virtual SparseMatrix coarse_space() const { return {}; }
 };
 
 } // namespace polycut::elasticity
