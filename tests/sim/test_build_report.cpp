@@ -96,3 +96,24 @@ TEST(BuildReport, PartsComeInBuildOrderWithTheirCosts) {
     EXPECT_NE(r.detail("mesh").find("192 cells"), std::string::npos) << r.detail("mesh");
     EXPECT_EQ(r.find("dg_model"), nullptr); // not a DG scene
 }
+
+TEST(BuildReport, CuttingPreparedAtLoadIsAPartWithItsCost) {
+    // The server prepares the cut pipeline where it builds a scene (any client may cut it), so
+    // the structures a headless run makes at the first cut are then a part built at load.
+    sim::Simulation s = make(block("tet", kDynamic));
+    s.prepare_cutting();
+    s.prepare_cutting(); // a second call builds nothing more
+    const sim::BuildReport r = s.build_report();
+    ASSERT_TRUE(r.built("cut"));
+    EXPECT_NE(r.detail("cut").find("prepared at load"), std::string::npos) << r.detail("cut");
+    long entries = 0;
+    for (const sim::BuildPart& p : r.parts)
+        if (p.name == "cut") {
+            ++entries;
+            EXPECT_TRUE(std::isfinite(p.ms) && p.ms >= 0);
+        }
+    EXPECT_EQ(entries, 1);
+    // reset() builds the scene again without it
+    s.reset();
+    EXPECT_FALSE(s.build_report().built("cut"));
+}

@@ -99,9 +99,12 @@ BuildReport Simulation::build_report() const {
         = octree_part->built ? "kept for stress refinement" : "no stress refinement";
     BuildPart* cut_part = part(r.parts, "cut");
     cut_part->built = s.cutting != nullptr;
-    cut_part->detail = cut_part->built ? std::string("cut pipeline (")
-            + scene::to_string(s.scene.cutting.method) + "), made at the first cut"
-                                       : "made at the first cut; none so far";
+    cut_part->detail = !cut_part->built
+        ? "made at the first cut; none so far"
+        : std::string("cut pipeline (") + scene::to_string(s.scene.cutting.method) + ")"
+            + (s.cutting_prepared ? ", cutter adjacency, uncut grid and undo mirror prepared at "
+                                    "load (prepare_cutting)"
+                                  : ", made at the first cut");
     return r;
 }
 

@@ -1,6 +1,7 @@
 // sim::Simulation::cut: core/cut's pipeline (validation, world to rest, the cut), then the state
 // transfer that keeps new nodes where the material was (nothing pops, 000 sec. 5.1) and the
 // undo of a cut that cannot be carried.
+#include "build_clock.hpp"
 #include "impl.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
@@ -70,8 +71,15 @@ void Simulation::Impl::ensure_cutting() {
 }
 
 void Simulation::prepare_cutting() {
-    m_impl->ensure_cutting();
-    m_impl->cutting->prepare();
+    Impl& s = *m_impl;
+    if (s.cutting && s.cutting_prepared)
+        return;
+    std::erase_if(s.build_parts, [](const BuildPart& p) { return p.name == "cut"; });
+    PartClock clock;
+    s.ensure_cutting();
+    s.cutting->prepare();
+    s.cutting_prepared = true;
+    clock.lap(s.build_parts, "cut", true); // build() drops it again with the pipeline
 }
 
 void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, Snapshot& before) {

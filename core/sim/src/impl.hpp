@@ -71,6 +71,8 @@ struct Simulation::Impl {
     std::unique_ptr<cut::CutPipeline> cutting;
     /// Makes `cutting` for the current mesh if there is none.
     void ensure_cutting();
+    /// prepare_cutting() built `cutting` at load (its cost is the "cut" entry of build_parts)
+    bool cutting_prepared = false;
     /// Cells the cuts of this tick may still change (scene cutting.max_cells_per_tick; reset
     /// by step()); the triangles past it are deferred to the next tick.
     Index cut_cells_left = 0;

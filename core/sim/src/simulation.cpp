@@ -76,6 +76,7 @@ void Simulation::Impl::build() {
     }
     clock.lap(build_parts, "integrator", true);
     cutting.reset();
+    cutting_prepared = false;
     cut_cells_left = scene.cutting.max_cells_per_tick;
     state = integrator->rest_state();
     forces.clear();
@@ -247,6 +248,7 @@ StepReport Simulation::step() {
                     s.node_fixed_mask.assign(3 * s.mesh.rest.size(), 0);
                     s.scene_forces = VecX::Zero(3 * s.mesh.num_nodes());
                     s.cutting.reset(); // its adjacency is of the old mesh
+                    s.cutting_prepared = false;
                     s.static_solved = false; // a static scene solves again on the finer mesh
                     s.refresh_topology();
                     r.topology_changed = true;
