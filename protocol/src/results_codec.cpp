@@ -158,6 +158,21 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         if (m.r.optional("build_ms") != nullptr) {
             sr.build_ms = m.number("build_ms");
         }
+        if (const json* parts = m.r.optional("build_parts"); parts != nullptr) {
+            const std::string at = m.r.at("build_parts");
+            if (!parts->is_array() || parts->size() > 64) {
+                fail(kCode, at, "must be an array of at most 64 {name, ms, rss_kb} objects");
+            }
+            for (std::size_t i = 0; i < parts->size(); ++i) {
+                Members p { ObjectReader((*parts)[i], at + "/" + std::to_string(i), kCode) };
+                SceneResult::BuildPart part;
+                part.name = read_string(p.r.required("name"), p.r.at("name"), 64, kCode);
+                part.ms = read_number(p.r.required("ms"), p.r.at("ms"), Range { 0.0 }, kCode);
+                part.rss_kb = read_int(p.r.required("rss_kb"), p.r.at("rss_kb"), 0, kI64, kCode);
+                p.r.finish();
+                sr.build_parts.push_back(std::move(part));
+            }
+        }
         return sr;
     }
     case 2:
@@ -257,6 +272,14 @@ json encode_result_json(const Result& result, Message& frames) {
                     { "topology_version", r.topology_version }, { "vertex_count", r.vertex_count },
                     { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count },
                     { "build_ms", r.build_ms } };
+                if (!r.build_parts.empty()) {
+                    json parts = json::array();
+                    for (const auto& p : r.build_parts) {
+                        parts.push_back(
+                            { { "name", p.name }, { "ms", p.ms }, { "rss_kb", p.rss_kb } });
+                    }
+                    out["build_parts"] = parts;
+                }
                 if (r.replaced_tick) {
                     out["replaced_tick"] = *r.replaced_tick;
                 }

@@ -2,6 +2,10 @@
 // result says at which tick the command took effect (docs/protocol.md "Methods").
 #include "server_fixture.hpp"
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 namespace polycut::server::testing {
 namespace {
 
@@ -120,6 +124,16 @@ TEST_F(Methods, LoadSceneByNameAndInline) {
     EXPECT_GT(loaded.vertex_count, 0u);
     EXPECT_GT(loaded.triangle_count, 0u);
     EXPECT_EQ(client.stats().tick, 0);
+    // What the scene built (sim build report): the parts a dynamic tet block needs, in build
+    // order, and the cut pipeline the server prepares at load; nothing it does not need.
+    std::vector<std::string> parts;
+    for (const SceneResult::BuildPart& p : loaded.build_parts) {
+        parts.push_back(p.name);
+        EXPECT_TRUE(std::isfinite(p.ms) && p.ms >= 0) << p.name;
+        EXPECT_GE(p.rss_kb, 0) << p.name;
+    }
+    EXPECT_EQ(
+        parts, (std::vector<std::string> { "mesh", "model", "integrator", "surface", "cut" }));
 
     LoadSceneParams inline_scene;
     inline_scene.scene_json = kSmallScene;

@@ -41,6 +41,18 @@ struct SceneResult {
     /// while this one was built); absent when no scene was loaded before.
     std::optional<std::int64_t> replaced_tick {};
     double build_ms = 0.0; ///< wall time of the build, on the server's build thread [ms]
+    /// The parts the scene built, in build order, each with its wall time and the resident memory
+    /// it added (sim's build report, docs/scenes.md "What a scene builds"); parts the scene did
+    /// not need are absent.
+    struct BuildPart {
+        std::string name;
+        double ms = 0.0; ///< wall time of building it [ms]
+        /// resident memory added while it was built [KiB] (0 when the allocator reused freed
+        /// memory: an estimate from below)
+        std::int64_t rss_kb = 0;
+        bool operator==(const BuildPart&) const = default;
+    };
+    std::vector<BuildPart> build_parts {};
     bool operator==(const SceneResult&) const = default;
 };
 
