@@ -316,10 +316,16 @@ TEST(SceneDocs, AnUnknownNameSaysWhereAndWhatIsAccepted) {
         FAIL() << "accepted an unknown preconditioner";
     } catch (const SceneError& e) {
         EXPECT_EQ(e.where(), "/solver/preconditioner");
-        for (const char* n :
-            { "jacobi", "block_jacobi", "cell_block_jacobi", "lagged_cholesky", "amg", "ilu" })
+        for (const char* n : { "jacobi", "block_jacobi", "cell_block_jacobi", "lagged_cholesky",
+                 "amg", "two_level", "ilu" })
             EXPECT_NE(e.problem().find(n), std::string::npos) << e.problem();
     }
+    // main's two-level preconditioner (docs/decisions/0024) is a name of the same table
+    const Scene two = parse_scene(R"({"name": "d", "geometry": {"type": "box",
+        "size": [0.1, 0.1, 0.1]}, "material": {"youngs_modulus": 1e4},
+        "solver": {"preconditioner": "two_level"}})");
+    EXPECT_EQ(two.solver.preconditioner, Preconditioner::TwoLevel);
+    EXPECT_STREQ(to_string(two.solver.preconditioner), "two_level");
     // every enum's names round-trip through to_string
     for (auto m : { Method::Tet, Method::Hex, Method::Mvc, Method::Harmonic, Method::Dg })
         EXPECT_STRNE(to_string(m), "?");
