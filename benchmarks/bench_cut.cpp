@@ -18,7 +18,7 @@
 //   solve_ms, its {median, p99, max}               the step's linear solves [ms], PCG iterations
 //   ticks_over_16_7, ticks_over_50                 ticks above the 60 Hz budget / the 50 ms bound
 //   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
-//   undo_reasons                                   the warnings of the first undone cuts
+//   undo_reasons                                   the reasons of the first failed or undone cuts
 // With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (CPU ms, cells, its).
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
@@ -111,6 +111,8 @@ json run(const std::string& path, const Args& a) {
             return;
         const sim::CutSummary done = s.cut(tris);
         failed += done.ok() ? 0 : 1;
+        if (!done.ok() && reasons.size() < 5)
+            reasons.push_back("cut: " + done.reason);
         waiting.assign(tris.end() - done.triangles_deferred, tris.end());
         deferred += done.triangles_deferred;
     };
@@ -137,8 +139,12 @@ json run(const std::string& path, const Args& a) {
                 sweep(blade(a.ticks - 1));
             else
                 cut_now({});
-            if (waiting.empty())
-                failed += s.end_stroke().ok() ? 0 : 1;
+            if (waiting.empty()) {
+                const sim::CutSummary done = s.end_stroke();
+                failed += done.ok() ? 0 : 1;
+                if (!done.ok() && reasons.size() < 5)
+                    reasons.push_back("end_stroke: " + done.reason);
+            }
         }
         const double cut = tick.ms(), cpu_cut = cpu_ms() - cpu0;
         const sim::StepReport r = s.step();

@@ -103,6 +103,15 @@ struct CutPipeline::Impl {
             splitter = std::make_unique<Cutter>(mesh, opt.split);
     }
 
+    /// Tells the world grid which cells a call changed (its flat node lists).
+    void cells_changed(const CutReport& r) {
+        if (!world_grid)
+            return;
+        const bool renumbered = !r.cell_map.empty() || !r.node_map.empty()
+            || !r.removed_cells.empty() || !r.removed_nodes.empty() || r.slivers_merged > 0;
+        world_grid->cells_changed(r.changed_cells, renumbered);
+    }
+
     const WorldToRest& rest_cells() {
         if (!rest_grid) {
             rest_grid = std::make_unique<WorldToRest>(uncut);
@@ -345,6 +354,7 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
         result.report = s.snap() ? s.snapper->cut(rest, max_changed_cells)
                                  : s.splitter->cut(rest, max_changed_cells);
         s.journal.record(result.report);
+        s.cells_changed(result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();
@@ -383,6 +393,7 @@ CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
             before_change();
         result.report = s.snapper->finish_sweep();
         s.journal.record(result.report);
+        s.cells_changed(result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();

@@ -1,5 +1,6 @@
 // SnapCutter: input validation, the per-triangle pipeline of 002 sec. 3.2 (select, snap, dissect,
 // remove degeneracies) and the per-call bookkeeping that becomes the CutReport.
+#include "checks.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/cut/fault_injection.hpp"
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace polycut::cut {
@@ -61,16 +63,19 @@ std::array<double, 6> tet_dihedral_angles(
 
 namespace snap {
 
+double tet_volume(const mesh::Mesh& m, Index c) {
+    const auto& t = m.cells[std::size_t(c)].nodes;
+    const Vec3& a = m.rest[std::size_t(t[0])];
+    return (m.rest[std::size_t(t[1])] - a)
+               .dot((m.rest[std::size_t(t[2])] - a).cross(m.rest[std::size_t(t[3])] - a))
+        / 6.0;
+}
+
 double tet_mesh_volume(const mesh::Mesh& m) {
     // Sum of tet volumes from the node lists: no face loops, no allocation.
     double v = 0;
-    for (const auto& cell : m.cells) {
-        const auto& t = cell.nodes;
-        const Vec3& a = m.rest[std::size_t(t[0])];
-        v += (m.rest[std::size_t(t[1])] - a)
-                 .dot((m.rest[std::size_t(t[2])] - a).cross(m.rest[std::size_t(t[3])] - a))
-            / 6.0;
-    }
+    for (Index c = 0; c < m.num_cells(); ++c)
+        v += tet_volume(m, c);
     return v;
 }
 
@@ -86,8 +91,12 @@ void State::rebuild() {
         all.extend(x);
     L = std::max(all.diagonal(), 1e-300);
     center = all.empty() ? Vec3::Zero() : all.center();
-    volume0 = tet_mesh_volume(m);
+    cell_volume.resize(m.cells.size());
+    volume0 = 0;
+    for (Index c = 0; c < m.num_cells(); ++c)
+        volume0 += at(cell_volume, c) = tet_volume(m, c);
     volume_now = volume0;
+    grid = {};
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
@@ -127,7 +136,19 @@ void State::end() {
     CutReport& r = *report;
     r.nodes_after = m.num_nodes();
     r.cells_after = m.num_cells();
-    r.volume_after = volume_now = tet_mesh_volume(m);
+    // The volume from the cache: only the changed tets are measured again (every edit of a
+    // tet's nodes or of a node's position touches the tet; rebuild_faces() moves the entries).
+    cell_volume.resize(m.cells.size(), 0.0);
+    for (Index c = 0; c < m.num_cells(); ++c)
+        if (at(changed, c))
+            at(cell_volume, c) = tet_volume(m, c);
+    double volume = 0;
+    for (double v : cell_volume)
+        volume += v;
+    if (detail::incremental_checks() && volume != tet_mesh_volume(m))
+        throw std::logic_error("snap cutter: cached tet volumes differ from the mesh's ("
+            + std::to_string(volume) + " vs " + std::to_string(tet_mesh_volume(m)) + " m^3)");
+    r.volume_after = volume_now = volume;
     r.faces_renumbered = compacted;
     for (Index n = 0; n < m.num_nodes(); ++n) {
         if (at(node_old, n) != kNone)
@@ -199,6 +220,14 @@ const geometry::Aabb& State::bounds(Index c) {
 
 void State::touch(Index c) {
     at(box_ok, c) = 0;
+    if (grid.ok) {
+        if (std::size_t(c) >= grid.in_dirty.size())
+            grid.in_dirty.resize(m.cells.size(), 0);
+        if (!at(grid.in_dirty, c)) {
+            at(grid.in_dirty, c) = 1;
+            grid.dirty.push_back(c);
+        }
+    }
     touched += at(changed, c) ? 0 : 1;
     at(changed, c) = 1;
 }

@@ -16,6 +16,9 @@ namespace polycut::cut::snap {
 
 /// Label of a local face that is shared with another tet; other labels are mesh::FaceTag values.
 inline constexpr std::uint8_t kInterior = 0;
+/// Label of a tet whose labels were not loaded (Model::load_labels(cells)): it is unchanged,
+/// and its faces in the face table say what its labels are.
+inline constexpr std::uint8_t kUnloaded = 0xFF;
 
 using Tet = std::array<Index, 4>;
 using Labels = std::array<std::uint8_t, 4>; ///< per local face, opposite local node k
@@ -26,6 +29,9 @@ struct Model {
 
     /// Labels of every cell from the current face table.
     void load_labels();
+    /// Labels of the listed cells only; the others are kUnloaded (edits must not reach them).
+    void load_labels(const std::vector<Index>& cells);
+    void load_label(Index c);
 
     Tet tet(Index c) const {
         const auto& n = at(s.m.cells, c).nodes;

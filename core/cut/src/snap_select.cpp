@@ -121,7 +121,8 @@ std::vector<Index> select_faces(State& s, const SweepPlane& P) {
     std::unordered_map<std::uint64_t, Index> cache;
     std::vector<Index> selected_now;
     s.near.clear();
-    for (Index c = 0; c < s.m.num_cells(); ++c) {
+    const std::vector<Index> cells = s.candidates(tb); // copied: evaluate() may query again
+    for (Index c : cells) {
         if (!s.bounds(c).overlaps(tb))
             continue;
         s.near.push_back(c);
@@ -319,16 +320,19 @@ bool on_swept_surface(const State& s, const SweepPlane& P, const Vec3& x) {
 
 std::vector<Index> select_swept_faces(State& s, const SweepPlane& P) {
     const double eps = s.opt.plane_eps * s.L;
-    // Faces lie within an edge of the plane (rule 2): search the cells whose bounds come within
-    // the largest cell extent near the triangle of its bounding box.
+    // Faces lie within an edge of the plane (rule 2), their centroids over the triangle: the
+    // owner's bounds hold the centroid, so they meet the triangle's box grown by eps and, along
+    // the normal only, by the largest cell extent near the triangle (the length of any edge
+    // that crosses it). Growing it by that extent in every direction would take ~10x the tets.
     geometry::Aabb tb;
     for (const Vec3& p : P.tri)
         tb.extend(p);
     double reach = 0;
     for (Index c : s.near)
         reach = std::max(reach, s.bounds(c).diagonal());
-    tb.lo.array() -= reach + eps;
-    tb.hi.array() += reach + eps;
+    const Vec3 slab = reach * P.normal.cwiseAbs();
+    tb.lo = tb.lo - slab - Vec3::Constant(eps);
+    tb.hi = tb.hi + slab + Vec3::Constant(eps);
     std::unordered_map<Index, bool> closest; // rule 2, per node, cached for this triangle
     auto is_closest = [&](Index v) {
         auto [it, fresh] = closest.try_emplace(v, false);
@@ -338,7 +342,8 @@ std::vector<Index> select_swept_faces(State& s, const SweepPlane& P) {
         return it->second;
     };
     std::vector<Index> faces;
-    for (Index c = 0; c < s.m.num_cells(); ++c) {
+    const std::vector<Index> cells = s.candidates(tb);
+    for (Index c : cells) {
         if (!s.bounds(c).overlaps(tb))
             continue;
         for (Index f : at(s.m.cells, c).faces) {

@@ -66,6 +66,26 @@ struct State {
     std::vector<SweepPlane> swept;
     std::vector<geometry::Aabb> box; ///< rest bounds per tet
     std::vector<char> box_ok;
+    /// Signed rest volume per tet [m^3] as of the last end(): end() recomputes the changed tets
+    /// only, so a call's volume check costs what it touched (rebuild_faces() moves the entries
+    /// with their tets).
+    std::vector<double> cell_volume;
+    /// Spatial index of the tets' rest bounds (snap_grid.cpp): the tets a triangle can reach
+    /// without a pass over the mesh (issue 12 item 5).
+    struct Grid {
+        bool ok = false; ///< false: build at the next query
+        Vec3 lo = Vec3::Zero();
+        double h = 1; ///< bucket edge [m]
+        std::array<int, 3> dims { 0, 0, 0 };
+        std::vector<int> start; ///< bucket b holds cells[start[b] .. start[b + 1])
+        std::vector<Index> cells;
+        Index built = 0; ///< tets when built: later ones are always candidates
+        std::vector<Index> dirty; ///< tets touched since the build (bounds may have moved)
+        std::vector<char> in_dirty;
+        std::vector<std::uint32_t> stamp;
+        std::uint32_t now = 0;
+        std::vector<Index> found;
+    } grid;
 
     // Per-call bookkeeping.
     std::vector<Index> node_old; ///< current node -> id before the call, kNone if new
@@ -84,6 +104,11 @@ struct State {
     void end();
 
     const geometry::Aabb& bounds(Index c);
+    /// Tets whose rest bounds may overlap b, in increasing id order (a superset: callers test
+    /// bounds(c) themselves). Valid until the next call.
+    const std::vector<Index>& candidates(const geometry::Aabb& b);
+    /// Forgets the grid (tets renumbered).
+    void invalidate_grid() { grid.ok = false; }
     void touch(Index c);
     /// Moves node n to X, recording its old position and touching its cells.
     void move_node(Index n, const Vec3& X);
@@ -99,7 +124,9 @@ struct State {
     double aspect(Index c, Index n = kNone, const Vec3& Xn = Vec3::Zero()) const;
 };
 
-/// Total rest volume of a tet mesh [m^3] from the cells' node lists (cheap).
+/// Signed rest volume of tet c [m^3] from its node list.
+double tet_volume(const mesh::Mesh& m, Index c);
+/// Total rest volume of a tet mesh [m^3]: the sum of tet_volume() in cell order.
 double tet_mesh_volume(const mesh::Mesh& m);
 
 // snap_select.cpp: 002 sec. 3.2.1. Marks the crossings of the triangle and returns the newly

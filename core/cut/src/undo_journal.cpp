@@ -1,6 +1,8 @@
 // cut::detail::UndoJournal: the mirror of the mesh before the last cut (see undo_journal.hpp).
 #include "undo_journal.hpp"
 
+#include "checks.hpp"
+
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
@@ -8,15 +10,6 @@
 
 namespace polycut::cut::detail {
 namespace {
-bool checks_requested() {
-#ifndef NDEBUG
-    return true;
-#else
-    const char* v = std::getenv("POLYCUT_CHECK_UNDO");
-    return v != nullptr && v[0] != '\0' && v[0] != '0';
-#endif
-}
-
 /// to = from, element by element: each element's own vectors keep their capacity, so a whole
 /// copy of a mesh into one of about its size allocates nothing (a vector's operator= copies
 /// into fresh elements whenever it must grow, and every cut grows the mesh).
@@ -106,7 +99,7 @@ void Mirror::clear() {
 UndoJournal::UndoJournal(const mesh::Mesh& mesh)
     : m_call(mesh)
     , m_accepted(mesh)
-    , m_check(checks_requested()) { }
+    , m_check(incremental_checks()) { }
 
 void UndoJournal::record(const CutReport& r) {
     m_call.record(r);

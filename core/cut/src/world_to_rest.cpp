@@ -1,11 +1,14 @@
 #include "polycut/cut/world_to_rest.hpp"
 
+#include "checks.hpp"
 #include "polycut/geometry/polygon.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace polycut::cut {
 
@@ -19,13 +22,74 @@ void WorldToRest::refit_displaced(const MatX3& u) {
     refit(world);
 }
 
+void WorldToRest::copy_cell(std::size_t c) {
+    const auto& nodes = m_mesh.cells[c].nodes;
+    const int n = int(nodes.size());
+    if (c >= m_slot.size()) {
+        m_slot.resize(c + 1, 0);
+        m_count.resize(c + 1, 0);
+        m_room.resize(c + 1, 0);
+    }
+    if (n > m_room[c]) { // a new slot at the end (the old one is dropped at the next repack)
+        m_slot[c] = m_pool.size();
+        m_room[c] = n;
+        m_pool.resize(m_pool.size() + std::size_t(n));
+    }
+    m_count[c] = n;
+    std::copy(nodes.begin(), nodes.end(), m_pool.begin() + std::ptrdiff_t(m_slot[c]));
+}
+
+void WorldToRest::refresh_flat() {
+    const std::size_t nc = m_mesh.cells.size();
+    if (m_flat_ok && m_slot.size() <= nc) {
+        for (std::size_t c = m_slot.size(); c < nc; ++c) // appended since
+            copy_cell(c);
+        std::size_t used = 0;
+        for (int k : m_count)
+            used += std::size_t(k);
+        if (m_pool.size() <= 2 * used + 4096)
+            return;
+    }
+    m_slot.clear();
+    m_count.clear();
+    m_room.clear();
+    m_pool.clear();
+    for (std::size_t c = 0; c < nc; ++c)
+        copy_cell(c);
+    m_flat_ok = true;
+}
+
+void WorldToRest::cells_changed(std::span<const Index> changed, bool renumbered) {
+    if (!m_flat_ok)
+        return; // nothing copied yet: refit_near() copies the whole mesh
+    if (renumbered || m_slot.size() > m_mesh.cells.size()) {
+        m_flat_ok = false;
+        return;
+    }
+    for (Index c : changed)
+        if (c >= 0 && std::size_t(c) < m_slot.size())
+            copy_cell(std::size_t(c));
+}
+
 bool WorldToRest::refit_near(
     std::span<const Vec3> world, const geometry::Aabb& region, std::size_t max_cells) {
+    refresh_flat();
+    if (detail::incremental_checks())
+        for (std::size_t c = 0; c < m_mesh.cells.size(); ++c) {
+            const auto& nodes = m_mesh.cells[c].nodes;
+            if (!std::equal(nodes.begin(), nodes.end(), m_pool.begin() + std::ptrdiff_t(m_slot[c]),
+                    m_pool.begin() + std::ptrdiff_t(m_slot[c]) + m_count[c]))
+                throw std::logic_error("WorldToRest: the flat node lists differ from the mesh "
+                                       "at cell "
+                    + std::to_string(c) + " (cells_changed() missed)");
+        }
     m_near.clear();
-    for (std::size_t c = 0; c < m_mesh.cells.size(); ++c) {
+    const Index* pool = m_pool.data();
+    for (std::size_t c = 0; c < m_slot.size(); ++c) {
         geometry::Aabb box;
-        for (Index n : m_mesh.cells[c].nodes)
-            box.extend(world[std::size_t(n)]);
+        const Index* p = pool + m_slot[c];
+        for (int k = 0; k < m_count[c]; ++k)
+            box.extend(world[std::size_t(p[k])]);
         if (box.overlaps(region))
             m_near.emplace_back(Index(c), box);
     }

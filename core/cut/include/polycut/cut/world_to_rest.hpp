@@ -31,6 +31,12 @@ public:
     /// `max_cells` cells overlap (a long cut request: a linear filter per query would cost more).
     bool refit_near(
         std::span<const Vec3> world, const geometry::Aabb& region, std::size_t max_cells = 4096);
+    /// refit_near() reads the cells' nodes from its own flat copy of the node lists (the
+    /// mesh's per-cell vectors cost a cache miss per cell). After an edit of the mesh the owner
+    /// names the cells whose node lists changed (appended cells are found by count), or says
+    /// that cells or nodes were renumbered (the copy is then made again from the mesh). Checked
+    /// against the mesh under POLYCUT_CHECK_UNDO=1.
+    void cells_changed(std::span<const Index> changed, bool renumbered);
     /// Same with displacements u (#N x 3) [m]: world = rest + u.
     void refit_displaced(const MatX3& u);
 
@@ -62,6 +68,15 @@ private:
     std::vector<Index> m_fill; ///< work array of refit()
     bool m_near_only = false; ///< refit_near(): only m_near is valid
     std::vector<std::pair<Index, geometry::Aabb>> m_near; ///< cells (ascending) near the region
+    /// Flat copy of the cells' node lists for refit_near(): cell c's nodes are
+    /// m_pool[m_slot[c] .. m_slot[c] + m_count[c]), its slot holding up to m_room[c].
+    bool m_flat_ok = false;
+    std::vector<std::size_t> m_slot;
+    std::vector<int> m_count, m_room;
+    std::vector<Index> m_pool;
+
+    void copy_cell(std::size_t c);
+    void refresh_flat();
 
     Eigen::Vector3i bucket(const Vec3& x) const;
     double depth_outside(Index c, const Vec3& X) const;

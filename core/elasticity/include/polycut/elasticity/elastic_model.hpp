@@ -165,6 +165,11 @@ private:
     };
     void compute_cell(Index c);
     void rebuild_mass();
+    /// rebuild_mass() for the nodes marked in `affected` (#nodes) only: their masses are summed
+    /// again over their cells, in the order rebuild_mass() takes, so the result is the same to
+    /// the bit (checked with POLYCUT_CHECK_UNDO=1); a cut costs a pass over the flat cell-node
+    /// list instead of one over every cell's data. Needs the pattern's node lists current.
+    void update_mass(const std::vector<char>& affected);
     /// Rebuilds the nodal volumetric term (NodalAverage) from the cells and the pattern.
     void refresh_nodal();
     void rebuild_pattern();
