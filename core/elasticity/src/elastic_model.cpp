@@ -207,9 +207,7 @@ void ElasticModel::update_mass(const std::vector<char>& affected) {
             if (affected[std::size_t(cd.nodes[i])])
                 m_mass(cd.nodes[i]) += m_material.density * cd.integration.lumped_volume(Index(i));
     }
-    m_reduced_mass.resize(m_num_free);
-    for (Index r = 0; r < m_num_free; ++r)
-        m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
+    m_reduced_mass_stale = true; // reduced_mass() gathers it when a dynamic step asks
     if (const char* v = std::getenv("POLYCUT_CHECK_UNDO"); v != nullptr && v[0] == '1') {
         const auto partial = m_mass;
         rebuild_mass();
