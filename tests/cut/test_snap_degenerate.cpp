@@ -220,7 +220,7 @@ TEST(SnapIslands, ThroughCutsOfJitteredBlocksGiveTwoPieces) {
     // hole such a tet leaves in the selected surface can pinch an edge, whose faces used to stay
     // pending, leaving the halves joined. A through-cut must give exactly the two halves.
     std::mt19937 rng(5u);
-    Index exact = 0, merged = 0, pinches = 0;
+    Index exact = 0, merged = 0, pinches = 0, local = 0;
     for (auto split : { mesh::TetSplit::Kuhn6, mesh::TetSplit::Five })
         for (int k = 0; k < 20; ++k) {
             auto m = jittered_block(6, split, 0.2, rng);
@@ -233,13 +233,18 @@ TEST(SnapIslands, ThroughCutsOfJitteredBlocksGiveTwoPieces) {
             const auto inv = expect_ok(m, v0);
             merged += cutter.stats().islands_merged;
             pinches += cutter.stats().pinches_split;
+            local += cutter.stats().face_tables_local;
             exact += inv.components == 2 ? 1 : 0;
             EXPECT_EQ(inv.components, 2)
                 << (split == mesh::TetSplit::Kuhn6 ? "Kuhn" : "five-tet") << " cut " << k;
             EXPECT_EQ(cutter.stats().faces_pending, 0) << "cut " << k;
         }
     std::cout << "through-cuts with exactly 2 pieces: " << exact << " of 40, pieces glued back "
-              << merged << ", pinched edges split " << pinches << "\n";
+              << merged << ", pinched edges split " << pinches
+              << ", face tables made again locally " << local << "\n";
     EXPECT_GT(merged, 0);
     EXPECT_GT(pinches, 0);
+    // Opening the pinches went through the local face rebuild (decision 0016), whose table
+    // is checked for consistency under POLYCUT_CHECK_UNDO=1 and here by the invariants.
+    EXPECT_GT(local, 0);
 }

@@ -301,10 +301,12 @@ std::vector<Index> rebuild_faces(Model& md) {
     State& s = md.s;
     mesh::Mesh& m = s.m;
     if (rebuild_faces_local(md)) {
+        ++s.stats.face_tables_local;
         std::vector<Index> identity(m.rest.size());
         std::iota(identity.begin(), identity.end(), Index(0));
         return identity;
     }
+    ++s.stats.face_tables_whole;
     // Tets whose labels were not loaded are unchanged: their faces give them.
     for (Index c = 0; c < m.num_cells(); ++c)
         if (md.alive(c) && at(md.labels, c)[0] == kUnloaded)

@@ -103,6 +103,10 @@ struct SnapStats {
     /// being cut off (see SnapOptions::min_piece_cells).
     Index islands_merged = 0;
     double volume_change = 0; ///< |V_after - V_before| / V_before of the call
+    /// Face tables made again after an edit of the degeneracy-removal model: for the changed
+    /// tets only (decision 0016), or whole (a tet deleted or a node orphaned: compaction).
+    Index face_tables_local = 0;
+    Index face_tables_whole = 0;
 };
 
 /// Stateful face-snapping cutter on a tetrahedral mesh it does not own. Between calls it keeps
