@@ -312,13 +312,7 @@ std::vector<Index> rebuild_faces(Model& md) {
         if (md.alive(c) && at(md.labels, c)[0] == kUnloaded)
             md.load_label(c);
     // Pending faces survive by their node sets.
-    std::vector<std::array<Index, 3>> pend;
-    for (Index f : s.pending) {
-        const auto& n = at(m.faces, f).nodes;
-        std::array<Index, 3> k { n[0], n[1], n[2] };
-        std::sort(k.begin(), k.end());
-        pend.push_back(k);
-    }
+    std::vector<Key> pend = pending_keys(s);
     // Compact cells.
     s.cell_volume.resize(m.cells.size(), 0.0); // appended tets are changed: end() measures them
     s.invalidate_grid();
@@ -399,11 +393,6 @@ std::vector<Index> rebuild_faces(Model& md) {
             n = at(nmap, n);
     // Faces.
     m.faces.clear();
-    auto hash = [](std::array<Index, 3> k) {
-        return (std::uint64_t(std::uint32_t(k[0])) * 0x9E3779B97F4A7C15ull)
-            ^ (std::uint64_t(std::uint32_t(k[1])) << 21)
-            ^ (std::uint64_t(std::uint32_t(k[2])) << 42) ^ std::uint64_t(std::uint32_t(k[2]) >> 22);
-    };
     std::multimap<std::uint64_t, Index> byhash;
     for (Index c = 0; c < m.num_cells(); ++c) {
         auto& cell = at(m.cells, c);
@@ -416,7 +405,7 @@ std::vector<Index> rebuild_faces(Model& md) {
             std::sort(key.begin(), key.end());
             const std::uint8_t l = at(md.labels, c)[k];
             if (l == kInterior) {
-                const std::uint64_t h = hash(key);
+                const std::uint64_t h = KeyHash {}(key);
                 Index match = kNone;
                 for (auto [it, end] = byhash.equal_range(h); it != end; ++it) {
                     auto k2 = at(m.faces, it->second).nodes;
@@ -451,19 +440,7 @@ std::vector<Index> rebuild_faces(Model& md) {
         }
     }
     s.node_cells = m.node_cells();
-    s.pending.clear();
-    for (const auto& k : pend) {
-        if (std::find(k.begin(), k.end(), kNone) != k.end())
-            continue;
-        for (Index c : at(s.node_cells, k[0]))
-            for (Index f : at(m.cells, c).faces) {
-                auto k2 = at(m.faces, f).nodes;
-                std::sort(k2.begin(), k2.end());
-                if (std::equal(k2.begin(), k2.end(), k.begin()) && !at(m.faces, f).boundary()
-                    && std::find(s.pending.begin(), s.pending.end(), f) == s.pending.end())
-                    s.pending.push_back(f);
-            }
-    }
+    find_pending(s, pend);
     s.compacted = true;
     return nmap;
 }
