@@ -718,7 +718,13 @@ class Runner:
               "rate_hz": round((w[-1]["tick"] - w[0]["tick"]) / wall, 2) if wall > 0 else None,
               "stream_step_ms": dist(f["step_ms"] for f in w),
               "frame_interval_ms": dist(intervals),
-              "solver_iterations": dist(f["iterations"] for f in w)}
+              "solver_iterations": dist(f["iterations"] for f in w),
+              # where the long steps fall: the five slowest frames of the whole run
+              "slowest_steps": [{"tick": f["tick"], "step_ms": f["step_ms"],
+                                 "iterations": f["iterations"]}
+                                for f in sorted(frames, key=lambda f: -(f["step_ms"] or 0))[:5]],
+              # every frame: [tick, step_ms, solver_iterations, topology_version]
+              "per_frame": [[f["tick"], f["step_ms"], f["iterations"], f["tv"]] for f in frames]}
         if stats is not None:
             tk["stats"] = {k: stats.get(k) for k in ("tick", "worst_tick_ms", "ticks_over_budget",
                                                      "step_ms_p50", "step_ms_p99", "errors",

@@ -86,7 +86,7 @@ TEST(BuildReport, PartsComeInBuildOrderWithTheirCosts) {
     const sim::Simulation s = make(block("tet", kDynamic));
     const sim::BuildReport r = s.build_report();
     const char* order[] = { "mesh", "model", "integrator", "contact", "surface", "embedded",
-        "octree", "inertia", "cut" };
+        "octree", "solver", "inertia", "cut" };
     ASSERT_EQ(r.parts.size(), std::size(order));
     for (std::size_t i = 0; i < r.parts.size(); ++i) {
         EXPECT_EQ(r.parts[i].name, order[i]);

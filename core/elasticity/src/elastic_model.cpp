@@ -157,8 +157,10 @@ void ElasticModel::compute_cell(Index c) {
     }
 }
 
-void ElasticModel::rebuild_topology() {
+void ElasticModel::rebuild_topology(std::vector<Index> node_map) {
+    m_previous_renumber_base = m_renumber_base;
     m_renumber_base = m_topology_version + 1; // the version rebuild_pattern() is about to make
+    m_node_map = std::move(node_map);
     const Index n = m_mesh->num_nodes();
     m_fixed.resize(3 * std::size_t(n), 0);
     m_cells.assign(std::size_t(m_mesh->num_cells()), CellData {});

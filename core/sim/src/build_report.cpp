@@ -80,8 +80,11 @@ BuildReport Simulation::build_report() const {
         + (s.scene.solver.type == scene::SolverType::Pcg
                 ? std::string(" + ") + scene::to_string(s.scene.solver.preconditioner)
                 : std::string())
-        + "; matrices, factors and AMG hierarchies are set up at the first solve (inside the "
-          "first step)";
+        + "; matrices and factors are set up at the first solve (inside the first step)";
+    BuildPart* solver_part = part(r.parts, "solver");
+    solver_part->detail = solver_part->built
+        ? "the first step's AMG hierarchy, set up at load (Integrator::prepare)"
+        : "nothing to set up ahead: the first solve sets up what its solver needs";
     part(r.parts, "surface")->detail = "boundary and cut triangles for streaming";
     BuildPart* contact_part = part(r.parts, "contact");
     contact_part->built = s.contact != nullptr;

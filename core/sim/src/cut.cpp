@@ -155,6 +155,10 @@ CutSummary Simulation::end_stroke() {
         s.spare = std::move(before);
     if (summary.status == CutSummary::Status::Failed)
         summary.reason = "finishing the stroke " + summary.reason;
+    // The solver's hierarchy was carried over the stroke's cuts: set it up again now that the
+    // cut is done (off the tick where the solver can).
+    if (s.integrator)
+        s.integrator->refresh_preconditioner();
     summary.cells_after = int(s.mesh.num_cells());
     return summary;
 }
@@ -237,7 +241,7 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
         state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
     // Renumbered nodes: a full rebuild. Cells merged away (cell_map) keep the survivors' data.
     if (!report.node_map.empty())
-        model->rebuild_topology();
+        model->rebuild_topology(report.node_map); // the solver's hierarchy follows the map
     else
         model->update_cells(report.changed_cells, report.cell_map);
     model->set_fixed_dofs(node_fixed_mask);

@@ -96,6 +96,9 @@ void Simulation::Impl::build() {
     clock.lap(build_parts, "embedded", embedded != nullptr);
     build_octree();
     clock.lap(build_parts, "octree", octree != nullptr);
+    // the first step's AMG set-up, here (off the tick when a server loads a scene)
+    const bool prepared = integrator->prepare(state);
+    clock.lap(build_parts, "solver", prepared);
 }
 
 void Simulation::reset() {

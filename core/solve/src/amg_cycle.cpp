@@ -279,20 +279,44 @@ bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
     return true;
 }
 
-bool AmgCycle::remap(const std::vector<long>& old_of) {
+bool AmgCycle::remap(const RowRemap& m) {
     if (m_levels.empty())
         return false;
     SortedCsr& P = m_levels.front().P;
+    const std::vector<long>& old_of = m.old_of;
+    const bool origins = m.origin_ptr.size() == old_of.size() + 1;
     SortedCsr Q;
     Q.rows = int(old_of.size());
     Q.ptr.assign(old_of.size() + 1, 0);
+    std::vector<std::pair<int, double>> row; // a new unknown's row, merged by column
     for (std::size_t r = 0; r < old_of.size(); ++r) {
         const long o = old_of[r];
-        if (o >= 0 && o < P.rows)
+        if (o >= 0 && o < P.rows) {
             for (int k = P.ptr[std::size_t(o)]; k < P.ptr[std::size_t(o) + 1]; ++k) {
                 Q.column.push_back(P.column[std::size_t(k)]);
                 Q.value.push_back(P.value[std::size_t(k)]);
             }
+        } else if (o < 0 && origins) {
+            row.clear();
+            for (int j = m.origin_ptr[r]; j < m.origin_ptr[r + 1]; ++j) {
+                const long from = m.origin_row[std::size_t(j)];
+                if (from < 0 || from >= P.rows)
+                    continue;
+                const double w = m.origin_weight[std::size_t(j)];
+                for (int k = P.ptr[std::size_t(from)]; k < P.ptr[std::size_t(from) + 1]; ++k)
+                    row.emplace_back(P.column[std::size_t(k)], w * P.value[std::size_t(k)]);
+            }
+            std::sort(row.begin(), row.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
+            for (const auto& [column, value] : row) {
+                if (Q.ptr[r] < int(Q.column.size()) && Q.column.back() == column)
+                    Q.value.back() += value;
+                else {
+                    Q.column.push_back(column);
+                    Q.value.push_back(value);
+                }
+            }
+        }
         Q.ptr[r + 1] = int(Q.column.size());
     }
     P = std::move(Q);

@@ -69,11 +69,13 @@ public:
     /// Returns false if a diagonal is missing or the coarsest operator is not SPD.
     bool finish(const SparseMatrix& A);
     /// The finest level's unknowns were renumbered by a cut: row r of the new matrix was row
-    /// old_of[r] of the old one (-1: a new unknown). The interpolation to the finest level keeps
-    /// each surviving row and gives new unknowns zero rows (no coarse correction, only the
-    /// finest level's smoothing); the next apply() prepares the finest level for the new matrix.
+    /// m.old_of[r] of the old one (-1: a new unknown). The interpolation to the finest level
+    /// keeps each surviving row; a new unknown gets the weighted sum of its origins' rows
+    /// (m.origin_*: a node a cut duplicated or created interpolates the coarse space like its
+    /// uncut neighbours), or a zero row without origins (then only the finest level's smoothing
+    /// reaches it); the next apply() prepares the finest level for the new matrix.
     /// False when there is no coarse level.
-    bool remap(const std::vector<long>& old_of);
+    bool remap(const RowRemap& m);
     /// z = B r, one V-cycle from zero with A as the finest operator (n x n like in finish();
     /// its values may have changed, a changed pattern is detected and its diagonal slots found
     /// again). r, z: n. False if A has a missing or non-positive diagonal entry.

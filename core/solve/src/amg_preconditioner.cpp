@@ -303,10 +303,10 @@ struct AmgPreconditioner::Impl {
         return cycle.finish(A);
     }
 
-    bool remap(const std::vector<long>& old_of) {
-        if (!use_cycle || n < 0 || !cycle.remap(old_of))
+    bool remap(const RowRemap& m) {
+        if (!use_cycle || n < 0 || !cycle.remap(m))
             return false;
-        n = long(old_of.size());
+        n = long(m.old_of.size());
         return true;
     }
 
@@ -355,7 +355,7 @@ struct AmgPreconditioner::Impl {
     void set_threads(int) { }
     SolveStatus setup(const SparseMatrix&) { return SolveStatus::NotReady; }
     SolveStatus apply(const SparseMatrix&, const Vector&, Vector&) { return SolveStatus::NotReady; }
-    bool remap(const std::vector<long>&) { return false; }
+    bool remap(const RowRemap&) { return false; }
     int levels() const { return 0; }
 };
 
@@ -402,8 +402,8 @@ void AmgPreconditioner::clear() {
     m_impl->clear();
 }
 
-bool AmgPreconditioner::remap(const std::vector<long>& old_of) {
-    return m_impl->remap(old_of);
+bool AmgPreconditioner::remap(const RowRemap& m) {
+    return m_impl->remap(m);
 }
 
 } // namespace polycut::solve::detail

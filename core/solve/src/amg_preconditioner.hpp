@@ -47,10 +47,10 @@ public:
     void clear();
     /// Exchanges the hierarchies (and settings) of two preconditioners.
     void swap(AmgPreconditioner& other) noexcept { m_impl.swap(other.m_impl); }
-    /// Keeps the hierarchy for a matrix whose unknowns a cut renumbered (row r was old_of[r],
-    /// -1 new): see AmgCycle::remap. False (hierarchy unchanged) when not possible (hypre's own
+    /// Keeps the hierarchy for a matrix whose unknowns a cut renumbered (see RowRemap and
+    /// AmgCycle::remap). False (hierarchy unchanged) when not possible (hypre's own
     /// cycle, no coarse level): set up again then.
-    bool remap(const std::vector<long>& old_of);
+    bool remap(const RowRemap& m);
 
 private:
     struct Impl;

@@ -6,6 +6,7 @@
 #include "polycut/solve/pcg.hpp"
 
 #include "amg_preconditioner.hpp"
+#include "background_priority.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/solve/background_cholesky.hpp"
 #include "two_level.hpp"
@@ -91,6 +92,9 @@ struct PcgSolver::Impl {
     std::future<std::unique_ptr<detail::AmgPreconditioner>> amg_job;
     int amg_handover = -1;
     Vector amg_coordinates;
+    // cuts since the job started: replayed on its hierarchy at the hand-over
+    std::vector<RowRemap> job_remaps;
+    int remaps_since_setup = 0; ///< cuts the installed hierarchy was carried over
 
     explicit Impl(PcgOptions o)
         : options(o)
@@ -260,6 +264,7 @@ struct PcgSolver::Impl {
 
     /// The lagged factor is new: restart the refactor schedule.
     void mark_refactored() {
+        remaps_since_setup = 0;
         solves_since_refactor = 0;
         refactor_requested = false;
         installed = true;
@@ -276,6 +281,7 @@ struct PcgSolver::Impl {
         if (amg_job.valid())
             amg_job.get();
         amg_handover = -1;
+        job_remaps.clear();
     }
 
     /// Starts a set-up of A on a worker thread (A and the coordinates are copied).
@@ -284,6 +290,7 @@ struct PcgSolver::Impl {
         ++refactorizations;
         amg_job = std::async(std::launch::async,
             [A = SparseMatrix(A), coordinates = amg_coordinates, o = options.amg] {
+                detail::run_in_background();
                 auto fresh = std::make_unique<detail::AmgPreconditioner>(o);
                 if (coordinates.size() == A.rows())
                     fresh->set_coordinates(coordinates);
@@ -301,11 +308,19 @@ struct PcgSolver::Impl {
     void finish_amg_job(const SparseMatrix& A) {
         std::unique_ptr<detail::AmgPreconditioner> fresh = amg_job.get();
         amg_handover = -1;
+        std::vector<RowRemap> remaps = std::move(job_remaps);
+        job_remaps.clear();
+        // the cuts since the job started renumbered the unknowns: carry the fresh hierarchy
+        // over them as the installed one was
+        for (const RowRemap& m : remaps)
+            if (fresh && !fresh->remap(m))
+                fresh.reset();
         if (!fresh || fresh->size() != A.rows())
             return;
         fresh->set_threads(options.threads);
         amg.swap(*fresh);
         mark_refactored();
+        remaps_since_setup = int(remaps.size());
         installed = true;
     }
 
@@ -522,6 +537,17 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     return result;
 }
 
+SolveStatus PcgSolver::prepare(const SparseMatrix& A) {
+    Impl& impl = *m_impl;
+    if (impl.options.preconditioner != Preconditioner::Amg || A.rows() == 0
+        || A.cols() != A.rows() || impl.amg.size() == A.rows())
+        return SolveStatus::Ok;
+    impl.resize(A.rows());
+    impl.amg.matrix_changed();
+    PcgResult unused;
+    return impl.prepare(A, unused); // a missing hierarchy is set up in the foreground
+}
+
 void PcgSolver::set_absolute_tolerance(double tolerance) {
     m_impl->options.absolute_tolerance = std::isfinite(tolerance) ? std::max(tolerance, 0.0) : 0.0;
 }
@@ -555,9 +581,21 @@ void PcgSolver::set_coarse_space(const SparseMatrix& P) {
     m_impl->two_level.set_coarse_space(P);
 }
 
-bool PcgSolver::remap_preconditioner(const std::vector<long>& old_of) {
+bool PcgSolver::remap_preconditioner(const RowRemap& m) {
     Impl& impl = *m_impl;
-    return impl.options.preconditioner == Preconditioner::Amg && impl.amg.remap(old_of);
+    if (impl.options.preconditioner != Preconditioner::Amg || !impl.amg.remap(m))
+        return false;
+    ++impl.remaps_since_setup;
+    if (impl.amg_handover >= 0)
+        impl.job_remaps.push_back(m);
+    return true;
+}
+
+void PcgSolver::request_refresh() {
+    Impl& impl = *m_impl;
+    if (impl.options.preconditioner == Preconditioner::Amg && impl.remaps_since_setup > 0
+        && impl.amg_handover < 0)
+        impl.refactor_requested = true;
 }
 
 int PcgSolver::refactorizations() const {

@@ -118,7 +118,10 @@ public:
     /// the new ones are recomputed; node ids must not have changed.
     void update_cells(const std::vector<Index>& changed, const std::vector<Index>& cell_map = {});
     /// Recomputes everything from the mesh (new nodes are free; existing DOF masks are kept).
-    void rebuild_topology();
+    /// node_map: the renumbering that made the rebuild necessary (old node id -> new id, kNone
+    /// for a node removed; a face snap's compaction), kept for node_map_since(); empty when
+    /// unknown.
+    void rebuild_topology(std::vector<Index> node_map = {});
     /// Replaces the fixed-DOF mask (3#N) and rebuilds the DOF numbering and pattern.
     void set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs);
     /// Incremented whenever the pattern (and DOF numbering) changes.
@@ -129,6 +132,10 @@ public:
     /// can be carried over through the old dof_map() instead of rebuilt.
     bool nodes_kept_since(std::uint64_t version) const override {
         return version >= m_renumber_base;
+    }
+    const std::vector<Index>* node_map_since(std::uint64_t version) const override {
+        const bool once = version < m_renumber_base && version >= m_previous_renumber_base;
+        return once && !m_node_map.empty() ? &m_node_map : nullptr;
     }
     /// Incremented whenever cell data (rest shape, Ke) or the fixed DOFs change (update_cells,
     /// rebuild_topology, set_fixed_dofs): a cached stiffness is stale after it moves.
@@ -208,6 +215,8 @@ private:
     std::vector<Index> m_diag_slots;
     /// Topology version since which node ids are stable (see nodes_kept_since()).
     std::uint64_t m_renumber_base = 0;
+    std::uint64_t m_previous_renumber_base = 0; ///< the one before m_renumber_base
+    std::vector<Index> m_node_map; ///< of the renumbering at m_renumber_base (may be empty)
     // Node-level pattern: neighbours of each node (CSR, sorted), where each neighbour's rows
     // start within the node's columns, and the column length.
     std::vector<std::size_t> m_nb_offset;

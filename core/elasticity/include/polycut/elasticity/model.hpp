@@ -57,6 +57,10 @@ public:
     virtual std::uint64_t topology_version() const = 0;
     /// Whether row ids are the same as at topology version `version`.
     virtual bool nodes_kept_since(std::uint64_t version) const = 0;
+    /// When the rows were renumbered exactly once since topology version `version` and the
+    /// renumbering is known: old row id -> id now (kNone: removed). Null otherwise (also when
+    /// nodes_kept_since(version): nothing to map).
+    virtual const std::vector<Index>* node_map_since(std::uint64_t) const { return nullptr; }
     /// Incremented whenever cell data or fixed DOFs change (a cached stiffness is stale).
     virtual std::uint64_t cell_version() const = 0;
     /// Threads for assemble() (>= 1); a model may ignore it.

@@ -96,12 +96,18 @@ public:
     const PcgOptions& options() const;
     /// Forget the preconditioner (call after a sparsity pattern change).
     void reset();
-    /// After a cut renumbered the unknowns (row r of the new system was old_of[r] of the old
-    /// one, -1 for a new unknown): keep the AMG hierarchy, carried over to the new numbering,
+    /// After a cut renumbered the unknowns (RowRemap: row r of the new system was old_of[r] of
+    /// the old one, -1 for a new unknown, with the new unknowns' origins): keep the AMG hierarchy, carried over to the new numbering,
     /// instead of setting it up again (issue 12 item 5: a cut must not cost a blocking set-up;
     /// the lagged set-up rule sets up again when the solves need it). False when the
     /// preconditioner cannot be kept (not AMG, no hierarchy): then call reset().
-    bool remap_preconditioner(const std::vector<long>& old_of);
+    bool remap_preconditioner(const RowRemap& m);
+    /// Amg: when the hierarchy was carried over cuts since its set-up (remap_preconditioner),
+    /// the next solve sets it up again (in the background with AmgOptions::background_solves,
+    /// like a set-up the iteration count asks for). The end of a stroke asks for it: the carried
+    /// coarse operators still couple the lips, and as the cut opens the solves grew from ~5 to
+    /// 20-30 iterations on the 5k organ. No-op otherwise.
+    void request_refresh();
     /// Solves A x = b from the initial guess x. A: symmetric positive definite, full storage.
     /// x: initial guess, replaced by zero if its size differs from A's or it is not finite;
     /// b = 0 gives x = 0 in 0 iterations. Status NotConverged at max_iterations (x is the last
@@ -110,6 +116,11 @@ public:
     /// p^T A p <= 0 or a preconditioner setup meets a non-positive pivot, NonFinite on NaN/Inf
     /// in b or along the iteration. Throws InputError on mismatched sizes.
     PcgResult solve(const SparseMatrix& A, const Vector& b, Vector& x);
+    /// Amg: sets up the hierarchy for A now, as the next solve() would if it has none, so that
+    /// the solve finds it ready (a scene load prepares the first step's set-up off the tick).
+    /// The next solve of A proceeds exactly as without this call. No-op for the other
+    /// preconditioners or when a hierarchy of A's size exists. Status of the set-up.
+    SolveStatus prepare(const SparseMatrix& A);
 
     /// Installs a factor (e.g. from BackgroundCholesky::take()) as the lagged preconditioner and
     /// restarts the refactor schedule. Used by LaggedCholesky only.
