@@ -174,7 +174,9 @@ json run(const std::string& path, const Args& a) {
         undone += s.step().cut_undone ? 1 : 0;
     }
     const sim::MeshStats st = s.mesh_stats();
+    const sim::ModelStats ms = s.model_stats();
     return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
+        { "free_dofs", ms.free_dofs }, { "nonzeros", ms.nonzeros },
         { "cells_before", cells_before }, { "cells_after", s.cell_count() }, { "ticks", a.ticks },
         { "cut_ms", percentiles(cut_ms) }, { "step_ms", percentiles(step_ms) },
         { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) },

@@ -285,11 +285,19 @@ bool AmgCycle::remap(const RowRemap& m) {
     SortedCsr& P = m_levels.front().P;
     const std::vector<long>& old_of = m.old_of;
     const bool origins = m.origin_ptr.size() == old_of.size() + 1;
+    // Rows that kept their numbers (a cell-splitting cut appends its unknowns) stay in place:
+    // only the rows from the first renumbered one on are made again.
+    std::size_t kept = 0;
+    while (kept < old_of.size() && kept < std::size_t(P.rows) && old_of[kept] == long(kept))
+        ++kept;
     SortedCsr Q;
     Q.rows = int(old_of.size());
-    Q.ptr.assign(old_of.size() + 1, 0);
+    Q.ptr.assign(P.ptr.begin(), P.ptr.begin() + std::ptrdiff_t(kept) + 1);
+    Q.ptr.resize(old_of.size() + 1, 0);
+    Q.column.assign(P.column.begin(), P.column.begin() + P.ptr[kept]);
+    Q.value.assign(P.value.begin(), P.value.begin() + P.ptr[kept]);
     std::vector<std::pair<int, double>> row; // a new unknown's row, merged by column
-    for (std::size_t r = 0; r < old_of.size(); ++r) {
+    for (std::size_t r = kept; r < old_of.size(); ++r) {
         const long o = old_of[r];
         if (o >= 0 && o < P.rows) {
             for (int k = P.ptr[std::size_t(o)]; k < P.ptr[std::size_t(o) + 1]; ++k) {
