@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace polycut::elasticity {
@@ -171,6 +172,8 @@ private:
         double volume = 0; ///< quadrature weight [m^3]
     };
     void compute_cell(Index c);
+    /// compute_cell() for each listed cell, in parallel with the model's threads.
+    void compute_cells(std::span<const Index> cells);
     void rebuild_mass();
     /// rebuild_mass() for the nodes marked in `affected` (#nodes) only: their masses are summed
     /// again over their cells, in the order rebuild_mass() takes, so the result is the same to
