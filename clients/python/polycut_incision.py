@@ -104,6 +104,38 @@ def with_cutter(scene, cutter):
     return s
 
 
+def far_pieces(snapshot, centre, bound):
+    """The surface's connected pieces (triangles sharing vertices) with a vertex beyond `bound`
+    from `centre`: how many triangles, how far, and whether any is tagged cut (2). A small
+    piece far away is a fragment the cut set free (falling), not an exploded model."""
+    P = snapshot["positions"]
+    T = np.asarray(snapshot["triangles"], dtype=np.int64).reshape(-1, 3)
+    tags = np.asarray(snapshot.get("tags", np.ones(len(T))), dtype=np.int64)
+    parent = list(range(len(P)))
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+    for a, b, c in T:
+        for u, v in ((a, b), (b, c)):
+            ru, rv = find(int(u)), find(int(v))
+            if ru != rv:
+                parent[ru] = rv
+    roots = np.array([find(int(t[0])) for t in T]) if len(T) else np.zeros(0, dtype=np.int64)
+    dist = np.linalg.norm(P - centre, axis=1)
+    out = []
+    for r in np.unique(roots):
+        sel = roots == r
+        verts = np.unique(T[sel].ravel())
+        d = float(np.max(dist[verts]))
+        if d > bound:
+            out.append({"triangles": int(sel.sum()), "vertices": int(len(verts)),
+                        "max_dist_m": round(d, 3), "has_cut_faces": bool((tags[sel] == 2).any())})
+    return {"pieces": int(len(np.unique(roots))), "far": out[:10]}
+
+
 def organ_scene(base, cell_size):
     """The organ of issue 12: the blob (about 10 x 6.4 x 4.4 cm) meshed by CGAL, standing on its
     bottom 6 mm (fixed), under gravity, AMG-preconditioned PCG."""
@@ -703,6 +735,7 @@ class Runner:
                 np.max(np.linalg.norm(P - frame.centre, axis=1))) > bound
             if bad or far:
                 fr.setdefault("bad_snapshots", []).append(name)
+                fr.setdefault("far_pieces", {})[name] = far_pieces(s, frame.centre, bound)
         # Ticks: the stroke window from the stream, the whole run from get_stats.
         if window[0] is not None and frames:
             t0 = window[0]

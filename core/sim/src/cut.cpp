@@ -101,6 +101,8 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
             check_cut_cells(report.changed_cells);
             if (scene.integrator.type == integrate::IntegratorKind::Static)
                 summary.pieces_fixed = fix_free_pieces();
+            else
+                summary.fragments_pinned = pin_free_fragments(report.changed_cells);
         }
     } catch (const std::exception& e) {
         restore(before);
@@ -348,6 +350,88 @@ int Simulation::Impl::fix_free_pieces() {
     if (fixed > 0)
         model->set_fixed_dofs(node_fixed_mask);
     return fixed;
+}
+
+int Simulation::Impl::pin_free_fragments(const std::vector<Index>& changed) {
+    // Debris: a cut (a re-cut along an earlier one, a blade grazing the skin) can free a few
+    // cells from the body. Under gravity with nothing below, such a fragment falls for ever:
+    // the live organ re-cut published a single tet 1.6 m below the body. A piece of at most
+    // kFragmentCells cells and under kFragmentVolume of the body that reaches no fixed node is
+    // held where it is (all its nodes fixed); larger free pieces (a slab cut off) fall under
+    // their loads. Found by a search from the changed cells that
+    // stops at kFragmentCells cells, so the work is bounded by what the cut touched.
+    if (dg || changed.empty())
+        return 0;
+    constexpr std::size_t kFragmentCells = 64;
+    constexpr double kFragmentVolume = 0.01; // of the body's rest volume
+    const Index nc = mesh.num_cells();
+    // cells of each node (CSR over the whole mesh: one pass, ~1 ms on the 26k-tet organ)
+    std::vector<Index> offset(std::size_t(mesh.num_nodes()) + 1, 0);
+    for (Index c = 0; c < nc; ++c)
+        for (Index n : mesh.cells[std::size_t(c)].nodes)
+            ++offset[std::size_t(n) + 1];
+    for (std::size_t i = 1; i < offset.size(); ++i)
+        offset[i] += offset[i - 1];
+    std::vector<Index> cells_of(std::size_t(offset.back()));
+    {
+        std::vector<Index> fill(offset.begin(), offset.end() - 1);
+        for (Index c = 0; c < nc; ++c)
+            for (Index n : mesh.cells[std::size_t(c)].nodes)
+                cells_of[std::size_t(fill[std::size_t(n)]++)] = c;
+    }
+    const auto fixed_node = [&](Index n) {
+        return node_fixed_mask[3 * std::size_t(n)] || node_fixed_mask[3 * std::size_t(n) + 1]
+            || node_fixed_mask[3 * std::size_t(n) + 2];
+    };
+    // the search that reached each cell (-1: none); meeting another search's cell means the
+    // piece joins one already judged (too big or anchored, or pinned: then not free either)
+    std::vector<int> search_of(std::size_t(nc), -1);
+    std::vector<Index> piece;
+    int pinned = 0;
+    for (std::size_t si = 0; si < changed.size(); ++si) {
+        const Index start = changed[si];
+        if (start < 0 || start >= nc || search_of[std::size_t(start)] >= 0)
+            continue;
+        piece.assign(1, start);
+        search_of[std::size_t(start)] = int(si);
+        bool free = true;
+        for (std::size_t k = 0; k < piece.size() && free; ++k) {
+            for (Index n : mesh.cells[std::size_t(piece[k])].nodes) {
+                if (fixed_node(n)) {
+                    free = false;
+                    break;
+                }
+                for (Index q = offset[std::size_t(n)]; q < offset[std::size_t(n) + 1]; ++q) {
+                    const Index c = cells_of[std::size_t(q)];
+                    if (search_of[std::size_t(c)] == int(si))
+                        continue;
+                    if (search_of[std::size_t(c)] >= 0) {
+                        free = false;
+                        break;
+                    }
+                    search_of[std::size_t(c)] = int(si);
+                    piece.push_back(c);
+                }
+                if (!free)
+                    break;
+            }
+            if (piece.size() > kFragmentCells)
+                free = false;
+        }
+        double volume = 0;
+        for (Index c : piece)
+            volume += mesh.cell_volume(c);
+        if (!free || !(volume < kFragmentVolume * body_volume))
+            continue;
+        for (Index c : piece)
+            for (Index n : mesh.cells[std::size_t(c)].nodes)
+                for (std::size_t k = 0; k < 3; ++k)
+                    node_fixed_mask[3 * std::size_t(n) + k] = 1;
+        ++pinned;
+    }
+    if (pinned > 0)
+        model->set_fixed_dofs(node_fixed_mask);
+    return pinned;
 }
 
 } // namespace polycut::sim

@@ -103,6 +103,10 @@ struct Simulation::Impl {
     /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
     /// returns how many pieces it fixed.
     int fix_free_pieces();
+    /// Dynamic scenes: fragments (at most 64 cells and 1 % of the body's volume) that a cut
+    /// freed from every fixed node, reached from `changed`, are held where they are (their
+    /// nodes fixed). Returns how many.
+    int pin_free_fragments(const std::vector<Index>& changed);
     integrate::State state;
     VecX scene_forces; ///< (3#N) constant nodal loads from the scene [N]
     VecX f_ext; ///< (3#N) work vector [N]
@@ -118,6 +122,7 @@ struct Simulation::Impl {
     /// Cube root of the uncut mesh's mean cell volume [m]: the length the cut tolerances and the
     /// blade's minimum advance are relative to.
     double initial_cell_size = 0;
+    double body_volume = 0; ///< rest volume of the scene as built [m^3]
     /// Largest rest bounding-box diagonal of a cell of the uncut mesh [m]: how far a material
     /// point can be from its nearest node (pick()).
     double max_cell_diameter = 0;

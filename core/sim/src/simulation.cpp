@@ -45,8 +45,9 @@ void Simulation::Impl::build() {
     PartClock clock;
     cut_undo.reset();
     swept_area = 0;
-    initial_cell_size = std::cbrt(
-        initial_mesh.rest_volume() / double(std::max<Index>(1, initial_mesh.num_cells())));
+    body_volume = initial_mesh.rest_volume();
+    initial_cell_size
+        = std::cbrt(body_volume / double(std::max<Index>(1, initial_mesh.num_cells())));
     max_cell_diameter = 0;
     for (Index c = 0; c < initial_mesh.num_cells(); ++c) {
         geometry::Aabb box;

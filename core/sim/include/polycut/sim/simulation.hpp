@@ -96,6 +96,9 @@ struct CutSummary {
     /// Static scenes: pieces the cut freed from every fixed node, each now fixed at one of its
     /// boundary faces (as 002 sec. 3.3 does) so the static problem stays well posed.
     int pieces_fixed = 0;
+    /// Dynamic scenes: fragments of at most 64 cells the cut freed from every fixed node, held
+    /// where they are (their nodes fixed) instead of falling for ever (docs/scenes.md).
+    int fragments_pinned = 0;
     double cut_ms = 0;
 };
 
