@@ -343,3 +343,21 @@ TEST(SurfaceFile, ScaleAndOptionErrors) {
     EXPECT_NEAR(out.mesh.rest_volume(), enclosed_volume(organ),
         surface_area(organ) * o.meshing.effective_facet_distance());
 }
+
+// A cube whose lower corners collapsed to subnormal coordinates (~1e-312), found by
+// tests/fuzz/fuzz_surface_readers: it reads as 12 triangles, and PMP's self-intersection
+// removal used to smooth it into NaN positions, on which CGAL's exact predicates aborted the
+// process (SIGFPE from GMP). Now PMP returns a clean surface or refuses with InputError.
+TEST(Repair, SubnormalCollapsedCubeIsRefusedOrRepairedWithoutCrashing) {
+    const SurfaceMesh in = read_surface(
+        std::string(POLYCUT_SOURCE_DIR) + "/tests/meshing/data/pmp_smoothing_nan.ply", false);
+    ASSERT_EQ(in.triangles.size(), 12u);
+    try {
+        const SurfaceMesh out = repair_surface(in, mode(RepairMode::Pmp), 1.0);
+        EXPECT_TRUE(closed_surface_problem(out).empty()) << closed_surface_problem(out);
+        for (const Vec3& p : out.positions)
+            EXPECT_TRUE(p.allFinite());
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("after PMP repair"), std::string::npos) << e.what();
+    }
+}

@@ -8,6 +8,13 @@
 #include "polycut/common/error.hpp"
 #include "surface_prepare.hpp"
 
+// CGAL 5.5's experimental self-intersection removal first tries angle smoothing without its
+// safety constraints; on tiny (subnormal) or collapsed patches that smoothing computes NaN
+// positions and the exact predicates that follow abort the process (GMP raises SIGFPE on
+// mpq_set_d(NaN)). Found by tests/fuzz/fuzz_surface_readers (corpus/surface_readers/
+// regression_pmp_smoothing_nan). Without smoothing the removal cuts out and re-fills the
+// intersecting patch, which only uses exact predicates on the input's points.
+#define CGAL_PMP_REMOVE_SELF_INTERSECTIONS_NO_SMOOTHING
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
