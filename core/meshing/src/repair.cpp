@@ -214,7 +214,7 @@ public:
         const bool across = std::any_of(pairs.begin(), pairs.end(),
             [&](const auto& p) { return component[p.first] != component[p.second]; });
         m_mesh.remove_property_map(component);
-        if (across)
+        if (across || has_underflowing_edge())
             return;
         try {
             PMP::experimental::remove_self_intersections(m_mesh);
@@ -233,6 +233,20 @@ public:
     const SurfaceMesh& to_wrap() const { return m_to_wrap; }
 
 private:
+    /// An edge shorter than 1e-100 (its squared length is below 1e-200, and products of two
+    /// such squares are subnormal or zero). CGAL's removal measures lengths and angles in
+    /// doubles: on such a surface (a cube with corners collapsed to ~1e-312, found by
+    /// tests/fuzz/fuzz_surface_readers: corpus regression_pmp_*) it walked off the mesh
+    /// (SEGV). The surface is then left for the final check (and the wrap).
+    bool has_underflowing_edge() const {
+        for (auto e : m_mesh.edges())
+            if (!(CGAL::squared_distance(
+                      m_mesh.point(m_mesh.vertex(e, 0)), m_mesh.point(m_mesh.vertex(e, 1)))
+                    >= 1e-200))
+                return true;
+        return false;
+    }
+
     void fill_all_holes() {
         std::vector<CgalMesh::Halfedge_index> cycles;
         PMP::extract_boundary_cycles(m_mesh, std::back_inserter(cycles));
