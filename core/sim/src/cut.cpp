@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <unordered_map>
 
 namespace polycut::sim {
 
@@ -358,75 +359,76 @@ int Simulation::Impl::pin_free_fragments(const std::vector<Index>& changed) {
     // the live organ re-cut published a single tet 1.6 m below the body. A piece of at most
     // kFragmentCells cells and under kFragmentVolume of the body that reaches no fixed node is
     // held where it is (all its nodes fixed); larger free pieces (a slab cut off) fall under
-    // their loads. Found by a search from the changed cells that
-    // stops at kFragmentCells cells, so the work is bounded by what the cut touched.
+    // their loads. The search walks the face table from the changed cells and stops at
+    // kFragmentCells cells, so its work is bounded by what the cut touched; only a candidate
+    // fragment is checked against the whole mesh for a node it shares with the body (hanging
+    // by a node or an edge, it is not free).
     if (dg || changed.empty())
         return 0;
     constexpr std::size_t kFragmentCells = 64;
     constexpr double kFragmentVolume = 0.01; // of the body's rest volume
     const Index nc = mesh.num_cells();
-    // cells of each node (CSR over the whole mesh: one pass, ~1 ms on the 26k-tet organ)
-    std::vector<Index> offset(std::size_t(mesh.num_nodes()) + 1, 0);
-    for (Index c = 0; c < nc; ++c)
-        for (Index n : mesh.cells[std::size_t(c)].nodes)
-            ++offset[std::size_t(n) + 1];
-    for (std::size_t i = 1; i < offset.size(); ++i)
-        offset[i] += offset[i - 1];
-    std::vector<Index> cells_of(std::size_t(offset.back()));
-    {
-        std::vector<Index> fill(offset.begin(), offset.end() - 1);
-        for (Index c = 0; c < nc; ++c)
-            for (Index n : mesh.cells[std::size_t(c)].nodes)
-                cells_of[std::size_t(fill[std::size_t(n)]++)] = c;
-    }
     const auto fixed_node = [&](Index n) {
         return node_fixed_mask[3 * std::size_t(n)] || node_fixed_mask[3 * std::size_t(n) + 1]
             || node_fixed_mask[3 * std::size_t(n) + 2];
     };
-    // the search that reached each cell (-1: none); meeting another search's cell means the
-    // piece joins one already judged (too big or anchored, or pinned: then not free either)
-    std::vector<int> search_of(std::size_t(nc), -1);
+    // the search that reached each cell; meeting another search's cell means the piece joins
+    // one already judged (too big or anchored)
+    std::unordered_map<Index, std::size_t> search_of;
     std::vector<Index> piece;
     int pinned = 0;
     for (std::size_t si = 0; si < changed.size(); ++si) {
         const Index start = changed[si];
-        if (start < 0 || start >= nc || search_of[std::size_t(start)] >= 0)
+        if (start < 0 || start >= nc || search_of.count(start))
             continue;
         piece.assign(1, start);
-        search_of[std::size_t(start)] = int(si);
+        search_of[start] = si;
         bool free = true;
         for (std::size_t k = 0; k < piece.size() && free; ++k) {
-            for (Index n : mesh.cells[std::size_t(piece[k])].nodes) {
-                if (fixed_node(n)) {
-                    free = false;
-                    break;
+            const mesh::Cell& cell = mesh.cells[std::size_t(piece[k])];
+            free = std::none_of(cell.nodes.begin(), cell.nodes.end(), fixed_node);
+            for (std::size_t q = 0; q < cell.faces.size() && free; ++q) {
+                const mesh::Face& f = mesh.faces[std::size_t(cell.faces[q])];
+                const Index other = f.owner == piece[k] ? f.neighbour : f.owner;
+                if (other == kNone)
+                    continue;
+                const auto [it, added] = search_of.emplace(other, si);
+                if (!added) {
+                    free = it->second == si;
+                    continue;
                 }
-                for (Index q = offset[std::size_t(n)]; q < offset[std::size_t(n) + 1]; ++q) {
-                    const Index c = cells_of[std::size_t(q)];
-                    if (search_of[std::size_t(c)] == int(si))
-                        continue;
-                    if (search_of[std::size_t(c)] >= 0) {
-                        free = false;
-                        break;
-                    }
-                    search_of[std::size_t(c)] = int(si);
-                    piece.push_back(c);
-                }
-                if (!free)
-                    break;
+                piece.push_back(other);
             }
-            if (piece.size() > kFragmentCells)
-                free = false;
+            free = free && piece.size() <= kFragmentCells;
         }
+        if (!free)
+            continue;
         double volume = 0;
         for (Index c : piece)
             volume += mesh.cell_volume(c);
-        if (!free || !(volume < kFragmentVolume * body_volume))
+        if (!(volume < kFragmentVolume * body_volume))
             continue;
+        // hanging on the body by a node or an edge: not free (the one pass over the mesh, for
+        // a candidate only)
+        std::vector<Index> nodes;
         for (Index c : piece)
+            nodes.insert(nodes.end(), mesh.cells[std::size_t(c)].nodes.begin(),
+                mesh.cells[std::size_t(c)].nodes.end());
+        std::sort(nodes.begin(), nodes.end());
+        nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+        bool hanging = false;
+        for (Index c = 0; c < nc && !hanging; ++c) {
+            const auto found = search_of.find(c);
+            if (found != search_of.end() && found->second == si)
+                continue;
             for (Index n : mesh.cells[std::size_t(c)].nodes)
-                for (std::size_t k = 0; k < 3; ++k)
-                    node_fixed_mask[3 * std::size_t(n) + k] = 1;
+                hanging = hanging || std::binary_search(nodes.begin(), nodes.end(), n);
+        }
+        if (hanging)
+            continue;
+        for (Index n : nodes)
+            for (std::size_t k = 0; k < 3; ++k)
+                node_fixed_mask[3 * std::size_t(n) + k] = 1;
         ++pinned;
     }
     if (pinned > 0)

@@ -539,8 +539,8 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
 
 SolveStatus PcgSolver::prepare(const SparseMatrix& A) {
     Impl& impl = *m_impl;
-    if (impl.options.preconditioner != Preconditioner::Amg || A.rows() == 0
-        || A.cols() != A.rows() || impl.amg.size() == A.rows())
+    if (impl.options.preconditioner != Preconditioner::Amg || A.rows() == 0 || A.cols() != A.rows()
+        || impl.amg.size() == A.rows())
         return SolveStatus::Ok;
     impl.resize(A.rows());
     impl.amg.matrix_changed();

@@ -97,10 +97,11 @@ public:
     /// Forget the preconditioner (call after a sparsity pattern change).
     void reset();
     /// After a cut renumbered the unknowns (RowRemap: row r of the new system was old_of[r] of
-    /// the old one, -1 for a new unknown, with the new unknowns' origins): keep the AMG hierarchy, carried over to the new numbering,
-    /// instead of setting it up again (issue 12 item 5: a cut must not cost a blocking set-up;
-    /// the lagged set-up rule sets up again when the solves need it). False when the
-    /// preconditioner cannot be kept (not AMG, no hierarchy): then call reset().
+    /// the old one, -1 for a new unknown, with the new unknowns' origins): keep the AMG hierarchy,
+    /// carried over to the new numbering, instead of setting it up again (issue 12 item 5: a cut
+    /// must not cost a blocking set-up; the lagged set-up rule sets up again when the solves need
+    /// it). False when the preconditioner cannot be kept (not AMG, no hierarchy): then call
+    /// reset().
     bool remap_preconditioner(const RowRemap& m);
     /// Amg: when the hierarchy was carried over cuts since its set-up (remap_preconditioner),
     /// the next solve sets it up again (in the background with AmgOptions::background_solves,

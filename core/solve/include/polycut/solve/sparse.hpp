@@ -5,7 +5,6 @@
 #include "polycut/common/sparse.hpp"
 
 #include <Eigen/SparseCore>
-
 #include <vector>
 
 namespace polycut::solve {
