@@ -101,6 +101,7 @@ json run(const std::string& path, const Args& a) {
     const long cells_before = s.cell_count();
     auto last = blade(0);
     bool held = false;
+    std::vector<Vec3> before = s.positions(); // for the trace
     // Triangles past a tick's cut budget wait for the next tick, as the server carries them.
     std::vector<std::array<Vec3, 3>> waiting;
     int deferred = 0;
@@ -150,9 +151,24 @@ json run(const std::string& path, const Args& a) {
         const sim::StepReport r = s.step();
         const double total = tick.ms();
         cut_cpu.push_back(cpu_cut);
-        if (std::getenv("BENCH_CUT_TRACE"))
-            std::fprintf(stderr, "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d\n", k,
-                cpu_cut, cpu_ms() - cpu0, long(s.cell_count()), r.solver_iterations);
+        if (std::getenv("BENCH_CUT_TRACE")) {
+            // How far the body reaches from its centre and how far a node moved in the step
+            // [m]: a slowly growing instability shows here long before any guard trips.
+            double reach = 0, moved = 0;
+            const auto& p = s.positions();
+            for (std::size_t i = 0; i < p.size(); ++i) {
+                reach = std::max(reach, (p[i] - c).norm());
+                if (i < before.size())
+                    moved = std::max(moved, (p[i] - before[i]).norm());
+            }
+            before = p;
+            std::fprintf(stderr,
+                "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d reach %.4g moved %.3g%s\n", k,
+                cpu_cut, cpu_ms() - cpu0, long(s.cell_count()), r.solver_iterations, reach, moved,
+                r.cut_undone ? " undone" : r.rolled_back ? " rolled back" : "");
+            for (const std::string& w : r.warnings)
+                std::fprintf(stderr, "  %s\n", w.c_str());
+        }
         tick_cpu.push_back(cpu_ms() - cpu0);
         undone += r.cut_undone ? 1 : 0;
         if (r.cut_undone && reasons.size() < 3 && !r.warnings.empty())

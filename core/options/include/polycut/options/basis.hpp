@@ -35,6 +35,15 @@ struct BasisOptions {
     /// HarmonicOptions::nonconvex_offset for non-convex cells.
     double harmonic_xi = 0.15;
     VolumetricRule volumetric = VolumetricRule::Full; ///< elasticity::element_stiffness
+    /// Stabilisation of general polyhedra (dimensionless): each cell's stiffness gains
+    /// stabilization x tr(Ke) / (3 n) x (I - P), P the least-squares projection of its n node
+    /// displacements onto affine fields, as the virtual element method stabilises the modes its
+    /// consistency term leaves free. Affine fields (the patch test, rigid motions) are
+    /// untouched. A cell a cut left with nodes micrometres apart, or a heuristic quadrature that
+    /// misses a node's neighbourhood, has deformation modes of ~1e-7 of its mean stiffness;
+    /// corotation pumped energy into them until the body exploded (issue 12, the blob organ
+    /// cut by cell splitting). 0 turns it off.
+    double stabilization = 0.005;
 };
 
 } // namespace polycut::basis
