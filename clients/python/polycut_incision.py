@@ -839,6 +839,12 @@ class Runner:
                 cut["completeness_rest"] = round(area / (2 * ref_rest), 4)
             if ref_world > 0:
                 cut["completeness_world"] = round(area / (2 * ref_world), 4)
+        if stats is not None and "cut_completeness" in stats:
+            # The server's own figure, in rest space where issue 12 item 4 states the bound (the
+            # areas above are on world positions).
+            cut["completeness_server"] = round(stats["cut_completeness"], 4)
+            cut["cut_area_server_cm2"] = round(1e4 * stats.get("cut_area", 0.0), 4)
+            cut["swept_area_server_cm2"] = round(1e4 * stats.get("swept_area", 0.0), 4)
         if final is not None:
             cut["area_final_cm2"] = round(1e4 * live.tagged_area(final, 2), 4)
             if cut.get("area_cm2"):

@@ -242,6 +242,13 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         if (const json* v = m.r.optional("contacts"); v != nullptr) {
             s.contacts = read_contacts(*v, m.r.at("contacts"), kCode);
         }
+        for (auto [name, field] : { std::pair { "cut_area", &s.cut_area },
+                 std::pair { "swept_area", &s.swept_area },
+                 std::pair { "cut_completeness", &s.cut_completeness } }) {
+            if (const json* v = m.r.optional(name); v != nullptr) {
+                *field = read_number(*v, m.r.at(name), Range { 0.0 }, kCode);
+            }
+        }
         if (const json* v = m.r.optional("contact_ms"); v != nullptr) {
             s.contact_ms = read_number(*v, m.r.at("contact_ms"), Range { 0.0 }, kCode);
         }
@@ -326,6 +333,9 @@ json encode_result_json(const Result& result, Message& frames) {
                 out["tools"] = r.tools;
                 out["contacts"] = contacts_json(r.contacts);
                 out["contact_ms"] = r.contact_ms;
+                out["cut_area"] = r.cut_area;
+                out["swept_area"] = r.swept_area;
+                out["cut_completeness"] = r.cut_completeness;
             }
         },
         result);

@@ -128,6 +128,10 @@ MeshStats Simulation::mesh_stats() const {
     return st;
 }
 
+CutAreas Simulation::cut_areas() const {
+    return { cut::cut_face_area(m_impl->mesh), m_impl->swept_area };
+}
+
 const MeshingSummary& Simulation::meshing_summary() const {
     return m_impl->meshing;
 }

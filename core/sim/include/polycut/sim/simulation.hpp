@@ -117,6 +117,13 @@ struct MeshStats {
     double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
 };
 
+/// The cut figures of MeshStats alone (Simulation::cut_areas, O(faces)).
+struct CutAreas {
+    double cut_area = 0; ///< as MeshStats::cut_area [m^2]
+    double swept_area = 0; ///< as MeshStats::swept_area [m^2]
+    double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
+};
+
 /// Mechanical energy of the current state [J] (issue 17 item 4: with damping and no input, the
 /// total does not grow).
 struct Energy {
@@ -245,6 +252,8 @@ public:
     /// Displacement [m] at a named probe (interpolated in the cell that contains it).
     Vec3 probe_displacement(const std::string& name) const;
     MeshStats mesh_stats() const;
+    /// Rest-space cut and swept areas without the rest of mesh_stats() (get_stats).
+    CutAreas cut_areas() const;
     /// Kinetic, elastic and gravitational energy of the current state.
     Energy energy() const;
     /// DOFs, nonzeros and cells by kind of the current model.
