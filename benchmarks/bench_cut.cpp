@@ -165,7 +165,9 @@ json run(const std::string& path, const Args& a) {
             std::fprintf(stderr,
                 "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d reach %.4g moved %.3g%s\n", k,
                 cpu_cut, cpu_ms() - cpu0, long(s.cell_count()), r.solver_iterations, reach, moved,
-                r.cut_undone ? " undone" : r.rolled_back ? " rolled back" : "");
+                r.cut_undone        ? " undone"
+                    : r.rolled_back ? " rolled back"
+                                    : "");
             for (const std::string& w : r.warnings)
                 std::fprintf(stderr, "  %s\n", w.c_str());
         }

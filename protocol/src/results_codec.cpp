@@ -242,9 +242,9 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         if (const json* v = m.r.optional("contacts"); v != nullptr) {
             s.contacts = read_contacts(*v, m.r.at("contacts"), kCode);
         }
-        for (auto [name, field] : { std::pair { "cut_area", &s.cut_area },
-                 std::pair { "swept_area", &s.swept_area },
-                 std::pair { "cut_completeness", &s.cut_completeness } }) {
+        for (auto [name, field] :
+            { std::pair { "cut_area", &s.cut_area }, std::pair { "swept_area", &s.swept_area },
+                std::pair { "cut_completeness", &s.cut_completeness } }) {
             if (const json* v = m.r.optional(name); v != nullptr) {
                 *field = read_number(*v, m.r.at(name), Range { 0.0 }, kCode);
             }

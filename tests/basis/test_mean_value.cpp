@@ -409,7 +409,6 @@ TEST(MeanValue, MeshWrapperUsesCellNodeOrder) {
     }
 }
 
-
 TEST(MeanValue, QuadratureWeightsAndLumpedVolumesStayPositiveOnANonConvexCell) {
     // A prism over an arrowhead (0,0) (4,2) (0,4) (3,2), 1 deep, in cm: its centroid lies in
     // the notch, so several (triangle, centroid) tets of 000 eq. 14-16 have negative volume, as

@@ -86,7 +86,9 @@ TEST(Stabilization, LiftsTheNearZeroModesOfAWedgeACutMade) {
     EXPECT_LT(off(8), 1e-6) << "the unstabilised wedge should have three near-zero modes";
     for (Index i = 6; i < on.size(); ++i)
         EXPECT_GT(on(i), 1e-3) << i;
-    std::printf("[ info ] wedge: 7th-9th eigenvalues / mean diagonal %.3g %.3g %.3g without, %.3g %.3g %.3g with\n", off(6), off(7), off(8), on(6), on(7), on(8));
+    std::printf("[ info ] wedge: 7th-9th eigenvalues / mean diagonal %.3g %.3g %.3g without, %.3g "
+                "%.3g %.3g with\n",
+        off(6), off(7), off(8), on(6), on(7), on(8));
 }
 
 TEST(Stabilization, LeavesAffineFieldsAndRigidMotionsUntouched) {

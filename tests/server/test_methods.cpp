@@ -170,8 +170,8 @@ TEST_F(Methods, CutInlineAndBinaryFramesChangeTopology) {
     // Cell splitting follows the blade: the same incision opens twice its swept area, within
     // the 1 % of issue 12 item 4, as get_stats reports it.
     std::string split = kSmallScene;
-    split.replace(split.find(R"("method": "tet")"), 15,
-        R"("method": "mvc", "cutting": {"method": "split"})");
+    split.replace(
+        split.find(R"("method": "tet")"), 15, R"("method": "mvc", "cutting": {"method": "split"})");
     LoadSceneParams load;
     load.scene_json = split;
     client.ok<SceneResult>(load);

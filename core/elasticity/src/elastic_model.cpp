@@ -135,23 +135,6 @@ void ElasticModel::compute_cells(std::span<const Index> cells) {
     }
 }
 
-namespace {
-/// Adds the stabilisation of BasisOptions::stabilization to the stiffness Ke (3n x 3n) of a
-/// cell with rest offsets dX from its node centroid and fit gradients G.
-void stabilize(MatX& Ke, const MatX3& dX, const MatX3& G, double tau) {
-    // P u_i = mean(u) + (sum_j u_j G_j^T) dX_i: the affine least-squares fit of the cell's node
-    // values (rotation.hpp), P_ij = 1/n + dX_i . G_j, symmetric and idempotent, so I - P is the
-    // orthogonal projection onto the non-affine modes and a positive semi-definite stiffness.
-    const Index n = dX.rows();
-    const MatX S = MatX::Identity(n, n) - MatX::Constant(n, n, 1.0 / double(n)) - dX * G.transpose();
-    const double k = tau * Ke.trace() / double(3 * n);
-    for (Index i = 0; i < n; ++i)
-        for (Index j = 0; j < n; ++j)
-            for (Index a = 0; a < 3; ++a)
-                Ke(3 * i + a, 3 * j + a) += k * S(i, j);
-}
-} // namespace
-
 void ElasticModel::compute_cell(Index c) {
     CellData& cd = m_cells[std::size_t(c)];
     const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
@@ -178,7 +161,7 @@ void ElasticModel::compute_cell(Index c) {
     for (std::size_t i = 0; i < X.size(); ++i)
         cd.rest_local.row(Index(i)) = (X[i] - Xc).transpose();
     if (cell.shape == mesh::CellShape::Polyhedron && m_options.stabilization > 0)
-        stabilize(cd.stiffness, cd.rest_local, cd.fit, m_options.stabilization);
+        stabilize_non_affine(cd.stiffness, cd.rest_local, cd.fit, m_options.stabilization);
     P1Cell& t = m_p1[std::size_t(c)];
     t = P1Cell {};
     const basis::CellIntegration& ci = cd.integration;

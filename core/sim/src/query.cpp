@@ -123,8 +123,9 @@ MeshStats Simulation::mesh_stats() const {
     st.rest_volume = m.rest_volume();
     st.components = m.count_components();
     st.surface_closed = mesh::check_boundary_surface(m).ok();
-    st.cut_area = cut::cut_face_area(m);
-    st.swept_area = m_impl->swept_area;
+    const CutAreas a = cut_areas();
+    st.cut_area = a.cut_area;
+    st.swept_area = a.swept_area;
     return st;
 }
 
