@@ -5,11 +5,13 @@
 // add scheduling noise to.
 //
 //   bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N] [--settle S] [--depth D]
+//             [--strokes K]
 //
 // The stroke: a blade from 2 cm above the tissue's top down to D x its height (default 0.4),
 // in the plane y = centre + 2.5 mm (between grid planes on the shipped boxes), moving along x
 // over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps of
-// settling (default 10). One JSON object per scene on stdout:
+// settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
+// deformed body (default 1). One JSON object per scene on stdout:
 //   nodes, cells (before/after), cutter
 //   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)
 //   cut_cpu_ms, tick_cpu_ms                        the same in CPU time of the process (all
@@ -47,6 +49,7 @@ struct Args {
     int ticks = 180;
     int settle = 10;
     double depth = 0.4;
+    int strokes = 1; // the same stroke again, in world space, after the first (a re-cut)
 };
 
 /// CPU time of the process, all threads [ms].
@@ -122,7 +125,12 @@ json run(const std::string& path, const Args& a) {
         last = q;
         held = false;
     };
-    for (int k = 1; k <= a.ticks; ++k) {
+    for (int t = 1; t <= a.ticks * a.strokes; ++t) {
+        const int k = (t - 1) % a.ticks + 1;
+        if (k == 1 && t > 1) { // the next stroke starts where the first did
+            last = blade(0);
+            held = false;
+        }
         Stopwatch tick;
         const double cpu0 = cpu_ms();
         if (k < a.ticks) {
@@ -163,7 +171,7 @@ json run(const std::string& path, const Args& a) {
             }
             before = p;
             std::fprintf(stderr,
-                "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d reach %.4g moved %.3g%s\n", k,
+                "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d reach %.4g moved %.3g%s\n", t,
                 cpu_cut, cpu_ms() - cpu0, long(s.cell_count()), r.solver_iterations, reach, moved,
                 r.cut_undone        ? " undone"
                     : r.rolled_back ? " rolled back"
@@ -195,14 +203,14 @@ json run(const std::string& path, const Args& a) {
     const sim::ModelStats ms = s.model_stats();
     return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
         { "free_dofs", ms.free_dofs }, { "nonzeros", ms.nonzeros },
-        { "cells_before", cells_before }, { "cells_after", s.cell_count() }, { "ticks", a.ticks },
-        { "cut_ms", percentiles(cut_ms) }, { "step_ms", percentiles(step_ms) },
-        { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) },
-        { "tick_ms", percentiles(tick_ms) }, { "cut_cpu_ms", percentiles(cut_cpu) },
-        { "tick_cpu_ms", percentiles(tick_cpu) }, { "ticks_over_16_7", over_budget },
-        { "ticks_over_50", over_50 }, { "completeness", st.completeness() },
-        { "failed_cuts", failed }, { "deferred_triangles", deferred }, { "undone", undone },
-        { "undo_reasons", reasons } };
+        { "cells_before", cells_before }, { "cells_after", s.cell_count() },
+        { "ticks", a.ticks * a.strokes }, { "cut_ms", percentiles(cut_ms) },
+        { "step_ms", percentiles(step_ms) }, { "solve_ms", percentiles(solve_ms) },
+        { "its", percentiles(its) }, { "tick_ms", percentiles(tick_ms) },
+        { "cut_cpu_ms", percentiles(cut_cpu) }, { "tick_cpu_ms", percentiles(tick_cpu) },
+        { "ticks_over_16_7", over_budget }, { "ticks_over_50", over_50 },
+        { "completeness", st.completeness() }, { "failed_cuts", failed },
+        { "deferred_triangles", deferred }, { "undone", undone }, { "undo_reasons", reasons } };
 }
 
 } // namespace
@@ -224,12 +232,14 @@ int main(int argc, char** argv) {
             a.settle = std::stoi(value());
         else if (arg == "--depth")
             a.depth = std::stod(value());
+        else if (arg == "--strokes")
+            a.strokes = std::stoi(value());
         else
             a.scenes.push_back(arg);
     }
     if (a.scenes.empty() || a.ticks < 2) {
         std::cerr << "usage: bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N >= 2] "
-                     "[--settle S] [--depth D]\n";
+                     "[--settle S] [--depth D] [--strokes K]\n";
         return 2;
     }
     try {

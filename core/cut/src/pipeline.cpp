@@ -23,6 +23,12 @@ geometry::Aabb triangle_box(const Triangle& t) {
     return b;
 }
 
+geometry::Aabb grown(geometry::Aabb b, double margin) {
+    b.extend(b.lo - Vec3::Constant(margin));
+    b.extend(b.hi + Vec3::Constant(margin));
+    return b;
+}
+
 /// Shape quality 4 sqrt(3) area / (sum of squared edges): 1 for an equilateral triangle, 0 for
 /// collinear or coincident corners; scale-invariant.
 double quality(const Triangle& t) {
@@ -56,6 +62,12 @@ constexpr double kStrokePlane = 0.05;
 // A blade within kFacePlane of the plane of a face of the cells it meets goes into that plane
 // (detail::snap_to_face_plane, docs/decisions/0005).
 constexpr double kFacePlane = 0.02;
+// A blade nearly parallel to the faces of an earlier cut and within kRecutPlane of their plane
+// follows that cut (the re-cut rule of detail::snap_to_face_plane, docs/decisions/0054).
+constexpr double kRecutPlane = 0.25;
+// Cut faces whose nodes lie within kOnCut of a sweep triangle's plane count as already cut under
+// it (twice the cutter's node snapping distance, CutOptions::snap).
+constexpr double kOnCut = 2 * CutOptions {}.snap;
 // A new corner within kEdgeSnap of a node of the uncut mesh or of the chord its plane cuts from a
 // face goes onto it (detail::snap_corner_to_features, docs/decisions/0007; cell splitting only).
 constexpr double kEdgeSnap = 0.05;
@@ -91,6 +103,10 @@ struct CutPipeline::Impl {
     std::unique_ptr<WorldToRest> world_grid;
     /// Uniform grid over the uncut mesh at rest (built once).
     std::unique_ptr<WorldToRest> rest_grid;
+    /// The current stroke began on the plane of an earlier cut (it follows that cut).
+    bool following = false;
+    /// Per mapped rest triangle of the last map(): its area on earlier Cut faces [m^2].
+    std::vector<double> overlap;
     /// The mesh before the last call that changed it (undo()).
     detail::UndoJournal journal;
 
@@ -179,6 +195,7 @@ struct CutPipeline::Impl {
         const double same = 1e-9 * L;
         bool located = false;
         std::vector<Triangle> rest;
+        overlap.clear();
         for (std::size_t t = 0; t < world.size(); ++t) {
             const Triangle& tri = world[t];
             // A sliver of a sweep (the blade barely moved between two samples) cuts nothing at
@@ -189,6 +206,7 @@ struct CutPipeline::Impl {
                 continue;
             }
             Triangle r;
+            std::vector<Index> near_cells;
             std::array<bool, 3> known {};
             const StrokeCorner* previous = nullptr;
             for (std::size_t k = 0; k < 3; ++k)
@@ -204,11 +222,13 @@ struct CutPipeline::Impl {
                     // Only the cells around this call's triangles are indexed.
                     geometry::Aabb region;
                     for (std::size_t u = t; u < world.size(); ++u)
-                        region.extend(triangle_box(world[u]));
+                        region.extend(grown(triangle_box(world[u]), cell_size));
                     world_grid->refit_near(positions, region);
                     located = true;
                 }
                 const std::vector<Index> near = world_grid->candidates(triangle_box(tri));
+                // Both lips of an earlier cut, however far the body opened them.
+                near_cells = world_grid->candidates(grown(triangle_box(tri), cell_size));
                 std::set<Index> nodes;
                 for (Index c : near)
                     nodes.insert(mesh.cells[std::size_t(c)].nodes.begin(),
@@ -245,7 +265,13 @@ struct CutPipeline::Impl {
                                 r[k] -= d * previous->normal;
                         }
                     }
-                detail::snap_to_face_plane(mesh, near, r, known, kFacePlane * cell_size, same);
+                // The re-cut rule at the stroke's first triangle only: later corners follow the
+                // stroke's plane, and the stroke's own cut faces must not pull them back.
+                const bool first = !known[0] && !known[1] && !known[2];
+                const bool on_cut = detail::snap_to_face_plane(mesh, near, r, known,
+                    kFacePlane * cell_size, same, first ? kRecutPlane * cell_size : 0.0, L);
+                if (first)
+                    following = on_cut;
                 // Cell splitting only: face snapping moves nodes onto the blade itself.
                 const Vec3 rn = (r[1] - r[0]).cross(r[2] - r[0]).normalized();
                 for (std::size_t k = 0; k < 3 && !snap(); ++k) {
@@ -272,6 +298,10 @@ struct CutPipeline::Impl {
                 if (!known[k])
                     corners.push_back(
                         { tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
+            // The part already cut (a stroke along an earlier cut) is not swept again.
+            overlap.push_back(following && !near_cells.empty()
+                    ? area_on_cut_faces(mesh, near_cells, r, kOnCut * cell_size)
+                    : 0.0);
             rest.push_back(r);
             source.push_back(t);
         }
@@ -320,6 +350,7 @@ void CutPipeline::forget() {
     s.splitter.reset();
     s.snapper.reset();
     s.corners.clear();
+    s.following = false;
     s.world_grid.reset();
 }
 
@@ -376,14 +407,16 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
                 ++result.skipped;
     }
     for (std::size_t i = 0; i < applied; ++i)
-        result.swept_area
-            += area_inside(s.uncut, s.rest_cells().candidates(triangle_box(rest[i])), rest[i]);
+        result.swept_area += std::max(0.0,
+            area_inside(s.uncut, s.rest_cells().candidates(triangle_box(rest[i])), rest[i])
+                - s.overlap[i]);
     return result;
 }
 
 CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
     Impl& s = *m_impl;
     s.corners.clear();
+    s.following = false;
     CutResult result;
     if (!s.snapper)
         return result;
