@@ -60,14 +60,13 @@ struct StrokeCorner {
 // kStrokePlane of the predecessor's rest plane (or of its world plane) go onto its rest plane.
 constexpr double kStrokePlane = 0.05;
 // A blade within kFacePlane of the plane of a face of the cells it meets goes into that plane
-// (detail::snap_to_face_plane, docs/decisions/0005).
+// (detail::snap_to_face_plane, docs/decisions/0005); the faces of an earlier cut whose nodes lie
+// within it of a sweep triangle's plane count as already cut under the triangle (the cutter's
+// snapped nodes sit up to ~0.01 mm off its plane).
 constexpr double kFacePlane = 0.02;
 // A blade nearly parallel to the faces of an earlier cut and within kRecutPlane of their plane
 // follows that cut (the re-cut rule of detail::snap_to_face_plane, docs/decisions/0054).
 constexpr double kRecutPlane = 0.25;
-// Cut faces whose nodes lie within kOnCut of a sweep triangle's plane count as already cut under
-// it (twice the cutter's node snapping distance, CutOptions::snap).
-constexpr double kOnCut = 2 * CutOptions {}.snap;
 // A new corner within kEdgeSnap of a node of the uncut mesh or of the chord its plane cuts from a
 // face goes onto it (detail::snap_corner_to_features, docs/decisions/0007; cell splitting only).
 constexpr double kEdgeSnap = 0.05;
@@ -300,7 +299,7 @@ struct CutPipeline::Impl {
                         { tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
             // The part already cut (a stroke along an earlier cut) is not swept again.
             overlap.push_back(following && !near_cells.empty()
-                    ? area_on_cut_faces(mesh, near_cells, r, kOnCut * cell_size)
+                    ? area_on_cut_faces(mesh, near_cells, r, kFacePlane * cell_size)
                     : 0.0);
             rest.push_back(r);
             source.push_back(t);

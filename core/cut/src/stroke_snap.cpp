@@ -20,7 +20,11 @@ bool snap_to_face_plane(const mesh::Mesh& m, const std::vector<Index>& near, std
     double best = std::numeric_limits<double>::infinity();
     Vec3 best_n = Vec3::Zero();
     double best_d = 0;
-    bool best_cut = false;
+    // The same among the Cut faces: an earlier cut's plane wins over the interior faces the
+    // cutter left in that plane beyond the cut (they lie in it too).
+    double best_cut = std::numeric_limits<double>::infinity();
+    Vec3 cut_n = Vec3::Zero();
+    double cut_d = 0;
     std::set<Index> seen;
     for (Index c : near)
         for (Index f : m.cells[std::size_t(c)].faces) {
@@ -50,19 +54,30 @@ bool snap_to_face_plane(const mesh::Mesh& m, const std::vector<Index>& near, std
             const bool recut = recut_tol > tol && is_cut && std::abs(n.dot(blade_n)) >= kRecutCos
                 && (crosses || nearest < sine * reach);
             const double within = recut ? recut_tol : tol;
-            if (fixed_ok && worst <= within && worst <= best && worst > 0) {
+            if (!fixed_ok || !(worst <= within) || !(worst > 0))
+                continue;
+            if (worst <= best) {
                 best = worst;
                 best_n = n;
                 best_d = d;
-                best_cut = is_cut;
+            }
+            if (is_cut && worst <= best_cut) {
+                best_cut = worst;
+                cut_n = n;
+                cut_d = d;
             }
         }
+    const bool on_cut = !cut_n.isZero() && best_cut <= best + exact;
+    if (on_cut) {
+        best_n = cut_n;
+        best_d = cut_d;
+    }
     if (best_n.isZero())
         return false;
     for (std::size_t k = 0; k < 3; ++k)
         if (!known[k])
             r[k] -= (best_n.dot(r[k]) - best_d) * best_n;
-    return best_cut;
+    return on_cut;
 }
 
 void snap_corner_to_features(const mesh::Mesh& m, const std::vector<Index>& cells, Vec3& x,
