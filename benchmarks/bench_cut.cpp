@@ -5,10 +5,10 @@
 // add scheduling noise to.
 //
 //   bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N] [--settle S] [--depth D]
-//             [--strokes K]
+//             [--strokes K] [--offset Y]
 //
 // The stroke: a blade from 2 cm above the tissue's top down to D x its height (default 0.4),
-// in the plane y = centre + 2.5 mm (between grid planes on the shipped boxes), moving along x
+// in the plane y = centre + Y (default 2.5 mm: between grid planes on the shipped boxes), moving along x
 // over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps of
 // settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
 // deformed body (default 1). One JSON object per scene on stdout:
@@ -50,6 +50,7 @@ struct Args {
     int settle = 10;
     double depth = 0.4;
     int strokes = 1; // the same stroke again, in world space, after the first (a re-cut)
+    double offset = 0.0025; // the blade's plane: y = centre + offset [m]
 };
 
 /// CPU time of the process, all threads [ms].
@@ -93,7 +94,7 @@ json run(const std::string& path, const Args& a) {
     }
     const Vec3 c = 0.5 * (lo + hi), size = hi - lo;
     const double top = hi.z() + 0.02, bottom = hi.z() - a.depth * size.z();
-    const double y = c.y() + 0.0025;
+    const double y = c.y() + a.offset;
     auto blade = [&](int k) {
         const double x = lo.x() + size.x() * (0.2 + 0.6 * double(k) / double(a.ticks - 1));
         return std::pair<Vec3, Vec3> { Vec3(x, y, top), Vec3(x, y, bottom) };
@@ -232,6 +233,8 @@ int main(int argc, char** argv) {
             a.settle = std::stoi(value());
         else if (arg == "--depth")
             a.depth = std::stod(value());
+        else if (arg == "--offset")
+            a.offset = std::stod(value());
         else if (arg == "--strokes")
             a.strokes = std::stoi(value());
         else
@@ -239,7 +242,7 @@ int main(int argc, char** argv) {
     }
     if (a.scenes.empty() || a.ticks < 2) {
         std::cerr << "usage: bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N >= 2] "
-                     "[--settle S] [--depth D] [--strokes K]\n";
+                     "[--settle S] [--depth D] [--strokes K] [--offset Y]\n";
         return 2;
     }
     try {

@@ -495,8 +495,11 @@ class Runner:
             scene_path = os.path.join(self.logdir, tag + ".scene.json")
             with open(scene_path, "w") as f:
                 json.dump(v.scene, f, indent=1)
+        # The server's command log beside its stderr: `polycut-server --replay` reproduces a case.
+        commands_path = os.path.join(self.logdir, tag + ".commands.log")
         srv = live.ServerProcess(args.server_bin, ["--scene", scene_path, "--rate",
-                                                   str(args.rate), "--paused"],
+                                                   str(args.rate), "--paused",
+                                                   "--record-commands", commands_path],
                                  stderr_path=stderr_path, start_timeout=args.start_timeout)
         ctx = zmq.Context()
         reader = rpc = rest = frame = case = surf = final = stats = None

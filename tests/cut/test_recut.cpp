@@ -144,6 +144,9 @@ TEST(AreaOnCutFaces, IsTheTrianglesOverlapWithTheCutCountedOnce) {
     // Shifted off the plane by more than the tolerance: nothing.
     const Vec3 dy(0, 1e-6, 0);
     EXPECT_EQ(area_on_cut_faces(m, all, { t[0] + dy, t[1] + dy, t[2] + dy }, 1e-9), 0.0);
+    // Within the tolerance (face snapping's cut lies beside the blade): the faces are projected
+    // onto the triangle's plane, the same area.
+    EXPECT_NEAR(area_on_cut_faces(m, all, { t[0] + dy, t[1] + dy, t[2] + dy }, 2e-6), 0.28, 1e-12);
     // Uncut mesh: nothing.
     all.resize(uncut.cells.size());
     EXPECT_EQ(area_on_cut_faces(uncut, all, t, 1e-9), 0.0);

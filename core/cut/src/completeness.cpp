@@ -102,17 +102,18 @@ double area_on_cut_faces(
             if (!face.boundary() || face.tag != mesh::FaceTag::Cut)
                 continue;
             std::vector<Vec3> poly = geometry::gather(m.rest, face.nodes);
-            const double cosine = geometry::polygon_normal(poly).dot(unit);
-            if (!(std::abs(cosine) > 1.0 - 1e-3))
-                continue;
-            bool coplanar = true;
+            bool near = true;
             for (const Vec3& p : poly)
-                coplanar = coplanar && std::abs(unit.dot(p - t[0])) <= tol;
-            if (!coplanar || std::find(seen.begin(), seen.end(), f) != seen.end())
+                near = near && std::abs(unit.dot(p - t[0])) <= tol;
+            if (!near || std::find(seen.begin(), seen.end(), f) != seen.end())
                 continue;
             seen.push_back(f);
-            // The face polygon clipped by the triangle's three edge planes (a convex region:
-            // Sutherland-Hodgman keeps the area of a non-convex face right).
+            const double cosine = geometry::polygon_normal(poly).dot(unit);
+            // Projected onto the triangle's plane (a face-snapped cut is a surface of mesh faces
+            // beside the blade, not in its plane), then clipped by the triangle's three edge
+            // planes (a convex region: Sutherland-Hodgman keeps the area of a non-convex face).
+            for (Vec3& p : poly)
+                p -= unit.dot(p - t[0]) * unit;
             for (int k = 0; k < 3 && poly.size() >= 3; ++k) {
                 const Vec3 e = t[std::size_t((k + 1) % 3)] - t[std::size_t(k)];
                 Vec3 out = e.cross(unit);

@@ -67,6 +67,9 @@ constexpr double kFacePlane = 0.02;
 // A blade nearly parallel to the faces of an earlier cut and within kRecutPlane of their plane
 // follows that cut (the re-cut rule of detail::snap_to_face_plane, docs/decisions/0054).
 constexpr double kRecutPlane = 0.25;
+// A face-snapped cut runs along mesh faces within about one mean cell size (~0.6 of a tet edge)
+// of the blade's plane: its lips there count as the part of a re-cut already cut.
+constexpr double kSnapBeside = 1.0;
 // A new corner within kEdgeSnap of a node of the uncut mesh or of the chord its plane cuts from a
 // face goes onto it (detail::snap_corner_to_features, docs/decisions/0007; cell splitting only).
 constexpr double kEdgeSnap = 0.05;
@@ -298,9 +301,9 @@ struct CutPipeline::Impl {
                     corners.push_back(
                         { tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
             // The part already cut (a stroke along an earlier cut) is not swept again.
-            overlap.push_back(following && !near_cells.empty()
-                    ? area_on_cut_faces(mesh, near_cells, r, kFacePlane * cell_size)
-                    : 0.0);
+            overlap.push_back(following && !near_cells.empty() ? area_on_cut_faces(mesh, near_cells,
+                                  r, (snap() ? kSnapBeside : kFacePlane) * cell_size)
+                                                               : 0.0);
             rest.push_back(r);
             source.push_back(t);
         }
