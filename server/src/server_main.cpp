@@ -136,12 +136,16 @@ int replay(const std::string& log, const std::string& scene_dir, long until_tick
             { "p99", polycut::percentile(v, 99.0) },
             { "max", *std::max_element(v.begin(), v.end()) } };
     };
+    const polycut::sim::CutAreas areas = session.simulation().cut_areas();
     const nlohmann::json out = { { "tick", summary.tick }, { "commands", summary.commands },
         { "rejected", summary.rejected }, { "state_hash", hex64(summary.state_hash) },
         { "topology_version", summary.topology_version }, { "scene", summary.scene },
         { "step_ms", figures(step_ms) }, { "tick_cpu_ms", figures(cpu_ms) },
         { "solver_iterations", figures(iterations) }, { "cut_ms_total", cut_ms },
-        { "cut_ms_max", worst_cut_ms } };
+        { "cut_ms_max", worst_cut_ms },
+        // As get_stats reports them (rest space, issue 12 item 4), at the last tick.
+        { "cut_area", areas.cut_area }, { "swept_area", areas.swept_area },
+        { "cut_completeness", areas.completeness() } };
     std::cout << out.dump() << std::endl;
     return summary.rejected == 0 ? 0 : 1;
 }
