@@ -1,5 +1,4 @@
 #include "plane_split.hpp"
-#include "polycut/geometry/polygon.hpp"
 #include "sweep.hpp"
 
 #include <Eigen/Core>
@@ -114,43 +113,17 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
                 to_split.push_back(c);
             else {
                 // Left unsplit (a face of it lies in the plane within the snapping distance:
-                // the plane of an earlier triangle of the stroke, a hair off this one's, or a
-                // lip of the crack so far). Its faces in the plane still open the crack where
-                // the triangle covers them; skipping them left holes behind the crack front
-                // (0.6-2.3 % of a stroke on the organ, and the same holes on every re-cut).
+                // the plane of an earlier triangle of the stroke, a hair off this one's). Its
+                // faces in the plane still open the crack where the triangle covers them;
+                // skipping them left holes in a stroke whose plane turned by a fraction of a
+                // degree (0.6 % of the organ's cut, and the same holes again on every re-cut).
                 ++ed.report->cells_skipped;
-                // A lip of the crack (a Cut face of it in the plane) may poke through the plane
-                // by a few micrometres at a node that a thinner neighbour counts as off it: its
-                // faces within its own snapping distance h of the plane and parallel to it
-                // continue the crack.
-                bool lip = false;
-                for (Index f : at(m.cells, c).faces) {
-                    const auto sg = cls.signs(at(m.faces, f).nodes);
-                    lip = lip
-                        || (at(m.faces, f).tag == mesh::FaceTag::Cut
-                            && std::all_of(sg.begin(), sg.end(), [](int v) { return v == 0; }));
-                }
                 for (Index f : at(m.cells, c).faces) {
                     const mesh::Face& face = at(m.faces, f);
-                    bool above = false, below = false, flat = true;
-                    for (Index v : face.nodes) {
-                        const int sv = cls.sign(v);
-                        above = above || sv > 0;
-                        below = below || sv < 0;
-                        flat = flat && (sv == 0 || (lip && std::abs(cls.distance(v)) <= h));
-                    }
-                    if (face.boundary() || !flat || (above && below))
-                        continue;
-                    if (above || below) {
-                        // Only a planar face (a triangle, say): clipping splits it exactly, so
-                        // the cells keep their volumes to round-off.
-                        const auto loop = geometry::gather(m.rest, face.nodes);
-                        const Vec3 fn = geometry::polygon_normal(loop);
-                        if (!(std::abs(fn.dot(n)) >= 1 - 1e-5)
-                            || !(geometry::planarity_error(loop) <= 1e-12 * h / ed.opt.snap))
-                            continue;
-                    }
-                    plane_faces.push_back(f);
+                    const auto sg = cls.signs(face.nodes);
+                    if (!face.boundary()
+                        && std::all_of(sg.begin(), sg.end(), [](int v) { return v == 0; }))
+                        plane_faces.push_back(f);
                 }
             }
         } else {
