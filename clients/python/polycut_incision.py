@@ -834,7 +834,14 @@ class Runner:
             cut["cut_triangles"] = int(np.sum(surf["tags"] == 2))
             cut["topology_version"] = surf["topology_version"]
             cut["vertices"] = int(len(surf["positions"]))
-            ref = ref_rest if case.reference == "rest" else ref_world
+            # On an organ (no box) the body sags before the stroke, so the world blade clipped
+            # by the rest surface mixes two spaces (it ran 0.91-0.94 for cuts the server
+            # measured complete in rest space): the reference is the world surface at the
+            # stroke's start, the space of the cut area it is compared with. The slack of the
+            # deformed cases (grabbed, pressed) still applies only to them.
+            reference = case.reference if self.variant.box is not None else "world"
+            cut["reference"] = reference
+            ref = ref_rest if reference == "rest" else ref_world
             cut["swept_inside_cm2"] = round(1e4 * ref, 4)
             if ref > 0:
                 cut["completeness"] = round(area / (2 * ref), 4)
