@@ -8,9 +8,9 @@
 //             [--strokes K] [--offset Y]
 //
 // The stroke: a blade from 2 cm above the tissue's top down to D x its height (default 0.4),
-// in the plane y = centre + Y (default 2.5 mm: between grid planes on the shipped boxes), moving along x
-// over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps of
-// settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
+// in the plane y = centre + Y (default 2.5 mm: between grid planes on the shipped boxes), moving
+// along x over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps
+// of settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
 // deformed body (default 1). One JSON object per scene on stdout:
 //   nodes, cells (before/after), cutter
 //   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)

@@ -7,6 +7,7 @@
 #include "polycut/cut/invariants.hpp"
 #include "polycut/cut/pipeline.hpp"
 #include "polycut/mesh/builders.hpp"
+#include "test_pipeline_common.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -16,18 +17,9 @@
 namespace polycut::cut {
 namespace {
 
-mesh::Mesh block(bool tets, int n = 6) {
-    mesh::BoxGrid g;
-    g.hi = Vec3(1, 1, 1);
-    g.cells = Eigen::Vector3i(n, n, n);
-    return tets ? mesh::tet_grid(g) : mesh::hex_grid(g);
-}
-
-PipelineOptions options(bool snap) {
-    PipelineOptions o;
-    o.method = snap ? CutMethod::Snap : CutMethod::Split;
-    return o;
-}
+using pipelinetest::block;
+using pipelinetest::expect_cut_invariants;
+using pipelinetest::options;
 
 /// A blade at y = 0.43 (between grid planes) from z = 1.2 down to z = 0.4, moved along x in
 /// `n` steps through the whole block: 2 n sweep triangles.
@@ -163,10 +155,7 @@ TEST_P(Pipeline, BudgetDefersTheRestAndCutsTheSameInTheEnd) {
     EXPECT_NEAR(swept, all.swept_area, 1e-12);
     EXPECT_NEAR(cut_face_area(m), cut_face_area(whole), 0.02 * cut_face_area(whole));
     EXPECT_NEAR(cut_face_area(m) / (2 * swept), 1.0, snap ? 0.05 : 0.01);
-    InvariantOptions io;
-    io.volume_tol = snap ? 1e-3 : 1e-9; // face snapping may move the skin by its volume budget
-    const CutInvariants inv = check_cut_invariants(m, uncut.rest_volume(), io);
-    EXPECT_TRUE(inv.ok()) << inv.first_problem;
+    expect_cut_invariants(m, uncut, snap);
 }
 
 TEST_P(Pipeline, FailureReportsAndLeavesTheRestoreToTheCaller) {
@@ -246,10 +235,7 @@ TEST_P(Pipeline, UndoGivesBackTheMeshBeforeTheLastCallExactly) {
     expect_same_mesh(m, accepted);
     ::unsetenv("POLYCUT_CHECK_UNDO");
     EXPECT_GE(undone, 5);
-    InvariantOptions io;
-    io.volume_tol = snap ? 1e-3 : 1e-9;
-    const CutInvariants inv = check_cut_invariants(m, uncut.rest_volume(), io);
-    EXPECT_TRUE(inv.ok()) << inv.first_problem;
+    expect_cut_invariants(m, uncut, snap);
     // At least one call renumbered (merged slivers or compacted nodes), so the journal's whole
     // copy was exercised as well as the local one.
     std::printf("calls %d, undone %d, whole-mesh mirror copies %llu\n", calls, undone,

@@ -208,7 +208,7 @@ struct CutPipeline::Impl {
                 continue;
             }
             Triangle r;
-            std::vector<Index> near_cells;
+            bool mapped = false; // a corner of it went through the world grid's fit
             std::array<bool, 3> known {};
             const StrokeCorner* previous = nullptr;
             for (std::size_t k = 0; k < 3; ++k)
@@ -229,8 +229,7 @@ struct CutPipeline::Impl {
                     located = true;
                 }
                 const std::vector<Index> near = world_grid->candidates(triangle_box(tri));
-                // Both lips of an earlier cut, however far the body opened them.
-                near_cells = world_grid->candidates(grown(triangle_box(tri), cell_size));
+                mapped = true;
                 std::set<Index> nodes;
                 for (Index c : near)
                     nodes.insert(mesh.cells[std::size_t(c)].nodes.begin(),
@@ -300,10 +299,14 @@ struct CutPipeline::Impl {
                 if (!known[k])
                     corners.push_back(
                         { tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
-            // The part already cut (a stroke along an earlier cut) is not swept again.
-            overlap.push_back(following && !near_cells.empty() ? area_on_cut_faces(mesh, near_cells,
-                                  r, (snap() ? kSnapBeside : kFacePlane) * cell_size)
-                                                               : 0.0);
+            // The part already cut (a stroke along an earlier cut) is not swept again; the cells
+            // around it from a cell farther out: both lips, however far the body opened them.
+            double on_cut = 0;
+            if (following && mapped)
+                on_cut = area_on_cut_faces(mesh,
+                    world_grid->candidates(grown(triangle_box(tri), cell_size)), r,
+                    (snap() ? kSnapBeside : kFacePlane) * cell_size);
+            overlap.push_back(on_cut);
             rest.push_back(r);
             source.push_back(t);
         }
