@@ -21,7 +21,8 @@
 //   ticks_over_16_7, ticks_over_50                 ticks above the 60 Hz budget / the 50 ms bound
 //   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
 //   undo_reasons                                   the reasons of the first failed or undone cuts
-// With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (CPU ms, cells, its).
+// With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (wall ms of the tick, its
+// cut, assembly and solves; CPU ms; cells; PCG iterations).
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/scene/scene.hpp"
@@ -172,8 +173,11 @@ json run(const std::string& path, const Args& a) {
             }
             before = p;
             std::fprintf(stderr,
-                "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d reach %.4g moved %.3g%s\n", t,
-                cpu_cut, cpu_ms() - cpu0, long(s.cell_count()), r.solver_iterations, reach, moved,
+                "tick %d wall %.1f cut %.1f asm %.1f solve %.1f cut_cpu %.1f tick_cpu %.1f cells "
+                "%ld its %d "
+                "reach %.4g moved %.3g%s\n",
+                t, tick.ms(), cut, r.assembly_ms, r.solve_ms, cpu_cut, cpu_ms() - cpu0,
+                long(s.cell_count()), r.solver_iterations, reach, moved,
                 r.cut_undone        ? " undone"
                     : r.rolled_back ? " rolled back"
                                     : "");

@@ -110,6 +110,8 @@ std::map<std::string, Getter> getters() {
     g["solver/amg/node_blocks"] = [](const Scene& s) { return boolean(s.solver.amg_node_blocks); };
     g["solver/amg/background_solves"]
         = [](const Scene& s) { return num(s.solver.amg_background_solves); };
+    g["solver/amg/background_serial"]
+        = [](const Scene& s) { return boolean(s.solver.amg_background_serial); };
     g["cutting/method"] = [](const Scene& s) { return name(to_string(s.cutting.method)); };
     g["cutting/snap_distance"] = [](const Scene& s) { return num(s.cutting.snap_distance); };
     g["cutting/sliver_volume"] = [](const Scene& s) { return num(s.cutting.sliver_volume); };

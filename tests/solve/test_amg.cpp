@@ -483,3 +483,44 @@ TEST(Amg, BackgroundSetUpIsInstalledExactlyKSolvesLaterAndRepeatsBitForBit) {
     for (std::size_t k = 0; k < xs1.size(); ++k)
         EXPECT_EQ((xs1[k] - xs2[k]).cwiseAbs().maxCoeff(), 0.0) << "solve " << k + 1;
 }
+
+TEST(Amg, SolvesRunOnOneThreadWhileABackgroundSetUpRunsAndRepeatBitForBit) {
+    // AmgOptions::background_serial: with 2 threads, a set-up asked for at solve 3 runs on the
+    // worker while solves 3-5 use one thread (PcgSolver::threads(), which the integrator's
+    // assembly follows); the hand-over at solve 6 restores two. The switches are at fixed
+    // solves, so two runs agree bit for bit; without the option the count never changes.
+    const BoxSystem s = box_system(6);
+    const double h = 0.01, beta = 0.01;
+    auto run = [&](bool serial, std::vector<Vector>& xs, std::vector<int>& threads) {
+        PcgOptions o = amg_options(1e-8);
+        o.refactor_every = 2;
+        o.amg.background_solves = 3;
+        o.amg.background_serial = serial;
+        o.threads = 2;
+        PcgSolver pcg(o);
+        EXPECT_EQ(pcg.threads(), 2);
+        const Vector b = random_vector(s.K.rows(), 5);
+        for (int k = 1; k <= 8; ++k) {
+            SparseMatrix A = ((1 + 0.1 * k) * (h * h + h * beta)) * s.K;
+            A.diagonal() += s.mass;
+            Vector x;
+            const PcgResult r = pcg.solve(A, b, x);
+            ASSERT_EQ(r.status, SolveStatus::Ok) << "solve " << k;
+            EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-9)) << "solve " << k;
+            xs.push_back(x);
+            threads.push_back(pcg.threads()); // what the next solve and step use
+        }
+    };
+    std::vector<Vector> xs1, xs2, xs3;
+    std::vector<int> t1, t2, t3;
+    run(true, xs1, t1);
+    run(true, xs2, t2);
+    run(false, xs3, t3);
+    // after solve:              1  2  3  4  5  6  7  8 (a set-up asked for again at 8)
+    const std::vector<int> want { 2, 2, 1, 1, 1, 2, 2, 1 };
+    EXPECT_EQ(t1, want);
+    EXPECT_EQ(t2, want);
+    EXPECT_EQ(t3, std::vector<int>(8, 2));
+    for (std::size_t k = 0; k < xs1.size(); ++k)
+        EXPECT_EQ((xs1[k] - xs2[k]).cwiseAbs().maxCoeff(), 0.0) << "solve " << k + 1;
+}

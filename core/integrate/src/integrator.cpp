@@ -425,6 +425,9 @@ StepReport Integrator::step(State& s) {
     bool backed_up = false;
     try {
         ensure_topology(report);
+        // the assembly runs on the solver's threads: one while a background set-up runs
+        // (solve::AmgOptions::background_serial)
+        m_model->set_threads(std::max(1, std::min(m_options.threads, m_solver.threads())));
         const Index n = m_model->num_rows();
         if (s.x.rows() != n) {
             report.warnings.emplace_back("state has the wrong number of nodes");

@@ -311,6 +311,7 @@ Solver parse_solver(const json& j, const std::string& ptr) {
         s.amg_node_blocks = a.boolean("node_blocks", s.amg_node_blocks);
         s.amg_background_solves
             = int(a.integer("background_solves", s.amg_background_solves, 0, 1000));
+        s.amg_background_serial = a.boolean("background_serial", s.amg_background_serial);
         a.finish();
     }
     r.finish();

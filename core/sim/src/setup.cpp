@@ -212,6 +212,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.amg.rigid_body_modes = sv.amg_rigid_body_modes;
     o.solver.amg.node_blocks = sv.amg_node_blocks;
     o.solver.amg.background_solves = sv.amg_background_solves;
+    o.solver.amg.background_serial = sv.amg_background_serial;
     o.threads = it.threads;
     o.stiffness_every = it.stiffness_every;
     o.energy_guard = it.energy_guard;

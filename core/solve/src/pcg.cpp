@@ -95,11 +95,24 @@ struct PcgSolver::Impl {
     // cuts since the job started: replayed on its hierarchy at the hand-over
     std::vector<RowRemap> job_remaps;
     int remaps_since_setup = 0; ///< cuts the installed hierarchy was carried over
+    int configured_threads = 1; ///< PcgOptions::threads as given (options.threads: now)
+
+    /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
+    /// count otherwise. Called where the job starts or is handed over: at fixed solves.
+    void follow_background() {
+        const int want
+            = options.amg.background_serial && amg_handover >= 0 ? 1 : configured_threads;
+        if (want == options.threads)
+            return;
+        options.threads = want;
+        amg.set_threads(want);
+    }
 
     explicit Impl(PcgOptions o)
         : options(o)
         , amg(o.amg) {
         options.threads = std::max(options.threads, 1);
+        configured_threads = options.threads;
         amg.set_threads(options.threads);
         if (options.background_refactor)
             background = std::make_unique<BackgroundCholesky>();
@@ -404,6 +417,7 @@ struct PcgSolver::Impl {
             }
             if (amg_handover > 0)
                 --amg_handover;
+            follow_background();
         }
         if (use == Preconditioner::TwoLevel) {
             if (two_level.space_rows() != A.rows() || block_starts.size() < 2
@@ -596,6 +610,10 @@ void PcgSolver::request_refresh() {
     if (impl.options.preconditioner == Preconditioner::Amg && impl.remaps_since_setup > 0
         && impl.amg_handover < 0)
         impl.refactor_requested = true;
+}
+
+int PcgSolver::threads() const {
+    return m_impl->options.threads;
 }
 
 int PcgSolver::refactorizations() const {

@@ -52,6 +52,8 @@ public:
         return m_options.kind == LinearSolverKind::PcgAmg && m_options.amg.rigid_body_modes;
     }
     const SolverOptions& options() const { return m_options; }
+    /// Threads of the next solve (solve::PcgSolver::threads: 1 while a background set-up runs).
+    int threads() const { return m_pcg.threads(); }
 
 private:
     SolverOptions m_options;

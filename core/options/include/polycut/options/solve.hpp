@@ -64,6 +64,14 @@ struct AmgOptions {
     /// (blocking it: ~100 ms on a 5k-node organ). The first set-up, and one after a size change
     /// that could not be carried over, is always in the foreground.
     int background_solves = 0;
+    /// While a background set-up runs, the solves (and, through PcgSolver::threads(), the
+    /// integrator's assembly) use one thread, leaving the other cores to the worker. On two cores
+    /// a worker beside two step threads preempted one of them: every parallel region of the step
+    /// waited for it (solves of 40-120 ms at 4-7 iterations on the 5k organ), and the worker,
+    /// starved at its low priority, was still late at the hand-over (a blocking wait of up to
+    /// 80 ms). The switches happen at fixed solves (the start and the hand-over), so replays
+    /// stay deterministic.
+    bool background_serial = true;
 };
 
 } // namespace polycut::solve

@@ -255,6 +255,8 @@ struct Solver {
     /// (what a bare solver and the benchmarks want); a scene runs in a loop whose tick a
     /// ~100 ms set-up would stall, so scenes hand it to a worker.
     int amg_background_solves = 8;
+    /// one thread for the step while a background set-up runs (solve::AmgOptions)
+    bool amg_background_serial = solve::AmgOptions {}.background_serial;
 };
 
 /// Selects nodes by rest position.

@@ -139,6 +139,9 @@ public:
     /// TwoLevel: the prolongation P (n x nc) from the coarse space to the unknowns. Copied; the
     /// next solve sets the preconditioner up again.
     void set_coarse_space(const SparseMatrix& P);
+    /// Threads the next solve's matrix passes use: PcgOptions::threads, or 1 while a background
+    /// set-up runs (AmgOptions::background_serial). The integrator's assembly follows it.
+    int threads() const;
     /// Number of lagged factorizations (or AMG set-ups) done so far (foreground and background).
     int refactorizations() const;
     /// Amg: levels of the current hierarchy (0 before the first set-up).
