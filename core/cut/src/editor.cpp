@@ -53,6 +53,7 @@ void Editor::begin(CutReport& r) {
     r = CutReport {};
     r.nodes_before = m.num_nodes();
     r.cells_before = m.num_cells();
+    r.faces_before = Index(m.faces.size());
     m_changed.assign(m.cells.size(), 0);
     m_changed_list.clear();
 }

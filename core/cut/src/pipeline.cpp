@@ -350,6 +350,10 @@ std::uint64_t CutPipeline::whole_mesh_copies() const {
     return m_impl->journal.whole_copies();
 }
 
+std::uint64_t CutPipeline::mirror_face_moves() const {
+    return m_impl->journal.face_moves();
+}
+
 void CutPipeline::forget() {
     Impl& s = *m_impl;
     s.splitter.reset();

@@ -103,6 +103,9 @@ public:
     /// How many calls were mirrored by a whole copy of the mesh (calls that renumbered cells,
     /// faces or nodes); the others copied only what they changed.
     std::uint64_t whole_mesh_copies() const;
+    /// How many mirror syncs moved the mirror's faces along merged cut faces' compactions
+    /// (CutReport::face_map) instead of copying the whole mesh.
+    std::uint64_t mirror_face_moves() const;
     /// Builds the cutter (its adjacency and caches) and the grid of the uncut mesh now, so the
     /// first call does not pay for them.
     void prepare();
