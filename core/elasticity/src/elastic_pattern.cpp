@@ -242,8 +242,10 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         int* blk = m_block_scatter.data() + 20 * c;
         if (const Index o = reuse[c]; o != kNone) {
             const int* from = old_block.data() + 20 * std::size_t(o);
+            const int shift4[4] = { delta[std::size_t(nodes[0])], delta[std::size_t(nodes[1])],
+                delta[std::size_t(nodes[2])], delta[std::size_t(nodes[3])] };
             for (std::size_t e = 0; e < 16; ++e)
-                blk[e] = from[e] + delta[std::size_t(nodes[e % 4])];
+                blk[e] = from[e] + shift4[e % 4];
             std::copy(from + 16, from + 20, blk + 16);
             continue;
         }
@@ -263,6 +265,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         m_scatter_offset[c + 1] = m_scatter_offset[c] + d * d;
     }
     m_scatter.assign(m_scatter_offset[n_cells], -1);
+    std::vector<int> shift;
     for (std::size_t c = 0; c < n_cells; ++c) {
         if (compact[c])
             continue;
@@ -270,9 +273,22 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         const std::size_t n = nodes.size(), d = 3 * n;
         int* sc = m_scatter.data() + m_scatter_offset[c];
         if (const Index o = reuse[c]; o != kNone) {
+            // entry (row, col) shifts by its column node's delta: one lookup per column, not
+            // a division and a lookup per entry (this copy was ~35 % of a cut's pattern update)
             const int* from = old_scatter.data() + old_scatter_offset[std::size_t(o)];
-            for (std::size_t e = 0; e < d * d; ++e)
-                sc[e] = from[e] < 0 ? from[e] : from[e] + delta[std::size_t(nodes[(e % d) / 3])];
+            shift.resize(d);
+            bool none = true;
+            for (std::size_t q = 0; q < d; ++q) {
+                shift[q] = delta[std::size_t(nodes[q / 3])];
+                none = none && shift[q] == 0;
+            }
+            if (none) {
+                std::copy(from, from + d * d, sc);
+                continue;
+            }
+            for (std::size_t row = 0; row < d; ++row, from += d, sc += d)
+                for (std::size_t q = 0; q < d; ++q)
+                    sc[q] = from[q] < 0 ? from[q] : from[q] + shift[q];
             continue;
         }
         for (std::size_t q = 0; q < n; ++q) {
