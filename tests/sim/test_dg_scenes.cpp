@@ -314,15 +314,10 @@ TEST(DgScenes, ShippedCutScenesKeepTheirInvariantsUnderDg) {
         EXPECT_TRUE(dg.after.surface_closed) << name;
         EXPECT_NEAR(dg.after.rest_volume, dg.volume_before, 1e-12 * dg.volume_before) << name;
         // No less complete than mvc (measured: equal on halves/slices, 0.9982 vs 0.9919 on
-        // progressive, 1.0004 vs 1.0009 on pencil); where the cut is exact, the same pieces. The
-        // pencil's 12 cuts leave ~30 chips of a few cells (44 pieces under dg, 45 under mvc):
-        // whether the last sliver of one comes off depends on how each method's deformation
-        // carries the blade to rest space, so one piece either way.
+        // progressive, 0.9661 vs 0.9269 on pencil); where the cut is exact, the same pieces.
         EXPECT_GE(dg.after.completeness(), ref.after.completeness() - 0.01) << name;
         if (ref.after.completeness() > 0.999) {
-            const double pieces = std::string(name) == "cut_pencil" ? 1 : 0;
-            EXPECT_NEAR(double(dg.after.components), double(ref.after.components), pieces)
-                << name;
+            EXPECT_EQ(dg.after.components, ref.after.components) << name;
         }
     }
 }

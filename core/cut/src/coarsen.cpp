@@ -8,7 +8,6 @@
 #include "sweep.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 namespace polycut::cut::detail {
 namespace {
@@ -22,26 +21,6 @@ bool inside_segment(const Vec3& a, const Vec3& x, const Vec3& b, double tol) {
     if (!(t > 0 && t < 1))
         return false;
     return (a + t * ab - x).norm() <= tol;
-}
-
-// True when every node of the loop lies within tol [m] of the loop's plane (Newell normal
-// through the node average). A node dropped from a face that is not planar moves the centre
-// its volume is measured from: the rest volume would change.
-bool planar(const mesh::Mesh& m, const std::vector<Index>& loop, double tol) {
-    Vec3 n = Vec3::Zero(), c = Vec3::Zero();
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-        const Vec3& a = at(m.rest, loop[i]);
-        const Vec3& b = at(m.rest, loop[(i + 1) % loop.size()]);
-        n += a.cross(b);
-        c += a;
-    }
-    const double len = n.norm();
-    if (!(len > 0))
-        return false;
-    n /= len;
-    c /= double(loop.size());
-    return std::all_of(loop.begin(), loop.end(),
-        [&](Index v) { return std::abs(n.dot(at(m.rest, v) - c)) <= tol; });
 }
 } // namespace
 
@@ -75,8 +54,7 @@ Index remove_collinear_nodes(Editor& ed, const std::vector<Index>& cells) {
             const int i = find_in(loop, n);
             const Index u = loop[(std::size_t(i) + k - 1) % k], w = loop[(std::size_t(i) + 1) % k];
             straight = straight && k > 3
-                && inside_segment(at(m.rest, u), at(m.rest, n), at(m.rest, w), tol)
-                && planar(m, loop, tol);
+                && inside_segment(at(m.rest, u), at(m.rest, n), at(m.rest, w), tol);
             if (!straight)
                 break;
         }

@@ -27,13 +27,6 @@ struct Plane {
     double distance(const Vec3& x) const { return normal.dot(x) - offset; }
 };
 
-/// A node put on a sweep plane: the snapping distance it had then and its signed distance to
-/// that plane [m] (eps 0: not on it).
-struct KeptZero {
-    double eps = 0;
-    double d0 = 0;
-};
-
 class Editor {
 public:
     Editor(mesh::Mesh& mesh, const CutOptions& options);
@@ -84,9 +77,6 @@ public:
 
     /// Cells using node n.
     std::vector<std::vector<Index>> node_cells;
-    /// The nodes the last sweep triangle put on its plane (by node id; kept across calls: a
-    /// stroke's ticks). See PlaneClassifier::sign.
-    std::unordered_map<Index, KeptZero> previous_zero;
     CutReport* report = nullptr;
 
 private:

@@ -1,19 +1,10 @@
 #include "plane_split.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <stdexcept>
 
 namespace polycut::cut::detail {
-
-namespace {
-/// How far a node's kept snapping distance may exceed its own.
-constexpr double kKeptEps = 3.0;
-/// The plane is the same at a node when the node's distance to it changed by less than this
-/// fraction of its snapping distance.
-constexpr double kSamePlace = 1e-2;
-} // namespace
 
 int PlaneClassifier::sign(Index n) {
     auto it = m_sign.find(n);
@@ -21,40 +12,9 @@ int PlaneClassifier::sign(Index n) {
         return it->second;
     const double d = distance(n);
     const double eps = std::max(m_min_eps, m_ed.snap_eps(n));
-    int s = d > eps ? 1 : (d < -eps ? -1 : 0);
-    // A node the previous sweep triangle put on its plane keeps the snapping distance it had
-    // then (up to kKeptEps times its own) where this plane is the same at the node (its distance
-    // to the plane is what it was then). Its own distance shrinks as the cells around it are
-    // split, so in a straight stroke a node of an interface face that earlier triangles left in
-    // the plane (beyond their edges) poked a few micrometres through the very same plane for
-    // the next triangle, and those cells were neither split nor opened: holes of ~2 % of the
-    // cut on the organ, blade through its centre (docs/decisions/0056). Where the planes differ
-    // the rule is off: there it made non-planar faces and flat cells.
-    KeptZero kept;
-    if (m_previous)
-        if (const auto k = m_previous->find(n); k != m_previous->end())
-            kept = k->second;
-    const bool keeps = kept.eps > 0 && std::abs(d) <= std::min(kept.eps, kKeptEps * eps)
-        && std::abs(d - kept.d0) <= kSamePlace * eps;
-    if (s != 0 && keeps)
-        s = 0;
-    if (s == 0)
-        m_zero.emplace(
-            n, keeps ? KeptZero { std::max(eps, kept.eps), kept.d0 } : KeptZero { eps, d });
+    const int s = d > eps ? 1 : (d < -eps ? -1 : 0);
     m_sign.emplace(n, s);
     return s;
-}
-
-std::unordered_map<Index, KeptZero> PlaneClassifier::zero_tolerances() {
-    std::unordered_map<Index, KeptZero> kept; // the nodes this triangle touched: O(cut)
-    for (const auto& [n, s] : m_sign) {
-        if (s != 0 || n >= m_ed.m.num_nodes())
-            continue;
-        const auto it = m_zero.find(n); // nodes made on the plane (set_zero) have none
-        kept.emplace(
-            n, it != m_zero.end() ? it->second : KeptZero { m_ed.snap_eps(n), distance(n) });
-    }
-    return kept;
 }
 
 std::vector<int> PlaneClassifier::signs(const std::vector<Index>& loop) {

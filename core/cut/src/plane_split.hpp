@@ -18,18 +18,9 @@ public:
         , m_plane(plane)
         , m_min_eps(min_eps) { }
     const Plane& plane() const { return m_plane; }
-    /// The nodes the previous sweep triangle put on its plane (by node id; eps 0: not on it):
-    /// such a node, where it lies as it lay then, keeps that snapping distance (see sign()).
-    void set_previous(const std::unordered_map<Index, KeptZero>* previous) {
-        m_previous = previous;
-    }
-    /// The nodes classified as on the plane so far (by node id, size `num_nodes`): the
-    /// `previous` of the next triangle.
-    std::unordered_map<Index, KeptZero> zero_tolerances();
     /// Signed distance of node n [m].
     double distance(Index n) const { return m_plane.distance(at(m_ed.m.rest, n)); }
-    /// -1, 0 (within the node's snapping distance; for a node on the previous plane, within the
-    /// previous plane's tolerance), +1. Cached, so every cell sees a node the same way.
+    /// -1, 0 (within the node's snapping distance), +1. Cached.
     int sign(Index n);
     /// Forces node n onto the plane (used for nodes created on it).
     void set_zero(Index n) { m_sign[n] = 0; }
@@ -43,8 +34,6 @@ private:
     Editor& m_ed;
     Plane m_plane;
     double m_min_eps = 0;
-    const std::unordered_map<Index, KeptZero>* m_previous = nullptr;
-    std::unordered_map<Index, KeptZero> m_zero; ///< the nodes put at 0
     std::unordered_map<Index, int> m_sign;
 };
 

@@ -62,7 +62,6 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
     mesh::Mesh& m = ed.m;
     const Vec3 n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
     PlaneClassifier cls(ed, Plane { n, n.dot(tri[0]) });
-    cls.set_previous(&ed.previous_zero);
     const Vec3 eu = (tri[1] - tri[0]).normalized();
     const Vec3 ev = n.cross(eu);
     auto to2 = [&](const Vec3& x) { return Vec2((x - tri[0]).dot(eu), (x - tri[0]).dot(ev)); };
@@ -188,7 +187,6 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
         if (inside)
             crack.push_back(f);
     }
-    ed.previous_zero = cls.zero_tolerances();
     return crack;
 }
 

@@ -15,10 +15,7 @@ using Triangle = std::array<Vec3, 3>;
 struct CutOptions {
     /// Snapping distance, relative to the local cell thickness h = 6 V / A of the thinnest cell
     /// around a node: a node closer than snap * h to a cutting plane counts as lying on it, so no
-    /// edge node is created next to it (no needles, 000 sec. 4 and 5.1). A node that the previous
-    /// sweep triangle put on its plane keeps the distance it had then (up to 3x its own; its
-    /// cells, split since, are thinner) where the next triangle's plane is the same at the node,
-    /// so a face left in the plane stays in it (docs/decisions/0056).
+    /// edge node is created next to it (no needles, 000 sec. 4 and 5.1).
     double snap = 1e-3;
     /// Snapping distance of the sweep triangles' side planes (the plane through an edge of the
     /// triangle, perpendicular to it, that clips the faces lying in the sweep plane), relative
