@@ -447,41 +447,66 @@ TEST(Amg, ThreadedCycleConvergesWhereHybridSmoothingDoesNot) {
     EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
 }
 
+namespace {
+
+/// What each of 8 solves of a stiffening body (A_k = (1 + 0.1 k)(h^2 + h beta) K + M, one
+/// right-hand side) gave with the background set-up of `o`: the solution, whether the solve
+/// installed a set-up, and PcgSolver::threads() after it (what the next solve and step use).
+struct BackgroundRun {
+    std::vector<Vector> x;
+    std::vector<bool> installed;
+    std::vector<int> threads;
+};
+
+BackgroundRun run_stiffening_solves(const BoxSystem& s, const PcgOptions& o) {
+    const double h = 0.01, beta = 0.01;
+    BackgroundRun run;
+    PcgSolver pcg(o);
+    EXPECT_EQ(pcg.threads(), std::max(o.threads, 1));
+    const Vector b = random_vector(s.K.rows(), 5);
+    for (int k = 1; k <= 8; ++k) {
+        SparseMatrix A = ((1 + 0.1 * k) * (h * h + h * beta)) * s.K;
+        A.diagonal() += s.mass;
+        Vector x;
+        const PcgResult r = pcg.solve(A, b, x);
+        EXPECT_EQ(r.status, SolveStatus::Ok) << "solve " << k;
+        EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-9)) << "solve " << k;
+        run.x.push_back(x);
+        run.installed.push_back(r.refactored);
+        run.threads.push_back(pcg.threads());
+    }
+    return run;
+}
+
+/// A set-up asked for every 2 solves, handed over 3 solves after it starts.
+PcgOptions background_options() {
+    PcgOptions o = amg_options(1e-8);
+    o.refactor_every = 2;
+    o.amg.background_solves = 3;
+    return o;
+}
+
+void expect_bit_for_bit(const BackgroundRun& a, const BackgroundRun& b) {
+    ASSERT_EQ(a.x.size(), b.x.size());
+    for (std::size_t k = 0; k < a.x.size(); ++k)
+        EXPECT_EQ((a.x[k] - b.x[k]).cwiseAbs().maxCoeff(), 0.0) << "solve " << k + 1;
+}
+
+} // namespace
+
 TEST(Amg, BackgroundSetUpIsInstalledExactlyKSolvesLaterAndRepeatsBitForBit) {
     // AmgOptions::background_solves = 3 with a set-up asked for every 2 solves: the first
     // set-up is in the foreground (no hierarchy yet); the next is asked for at solve 3, runs on
     // a worker thread while the old hierarchy preconditions solves 3-5, and is installed at
     // solve 6, never earlier or later (a fixed hand-over: a replay solves the same).
     const BoxSystem s = box_system(6);
-    const double h = 0.01, beta = 0.01;
-    auto run = [&](std::vector<Vector>& xs, std::vector<bool>& installed) {
-        PcgOptions o = amg_options(1e-8);
-        o.refactor_every = 2;
-        o.amg.background_solves = 3;
-        PcgSolver pcg(o);
-        const Vector b = random_vector(s.K.rows(), 5);
-        for (int k = 1; k <= 8; ++k) {
-            SparseMatrix A = ((1 + 0.1 * k) * (h * h + h * beta)) * s.K; // a stiffening body
-            A.diagonal() += s.mass;
-            Vector x;
-            const PcgResult r = pcg.solve(A, b, x);
-            ASSERT_EQ(r.status, SolveStatus::Ok) << "solve " << k;
-            EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-9)) << "solve " << k;
-            xs.push_back(x);
-            installed.push_back(r.refactored);
-        }
-    };
-    std::vector<Vector> xs1, xs2;
-    std::vector<bool> in1, in2;
-    run(xs1, in1);
-    run(xs2, in2);
+    const BackgroundRun r1 = run_stiffening_solves(s, background_options());
+    const BackgroundRun r2 = run_stiffening_solves(s, background_options());
     // solve:                       1     2      3      4      5      6     7      8
     const std::vector<bool> want { true, false, false, false, false, true, false, false };
-    EXPECT_EQ(in1, want);
-    EXPECT_EQ(in2, want);
-    ASSERT_EQ(xs1.size(), xs2.size());
-    for (std::size_t k = 0; k < xs1.size(); ++k)
-        EXPECT_EQ((xs1[k] - xs2[k]).cwiseAbs().maxCoeff(), 0.0) << "solve " << k + 1;
+    EXPECT_EQ(r1.installed, want);
+    EXPECT_EQ(r2.installed, want);
+    expect_bit_for_bit(r1, r2);
 }
 
 TEST(Amg, SolvesRunOnOneThreadWhileABackgroundSetUpRunsAndRepeatBitForBit) {
@@ -490,37 +515,16 @@ TEST(Amg, SolvesRunOnOneThreadWhileABackgroundSetUpRunsAndRepeatBitForBit) {
     // assembly follows); the hand-over at solve 6 restores two. The switches are at fixed
     // solves, so two runs agree bit for bit; without the option the count never changes.
     const BoxSystem s = box_system(6);
-    const double h = 0.01, beta = 0.01;
-    auto run = [&](bool serial, std::vector<Vector>& xs, std::vector<int>& threads) {
-        PcgOptions o = amg_options(1e-8);
-        o.refactor_every = 2;
-        o.amg.background_solves = 3;
-        o.amg.background_serial = serial;
-        o.threads = 2;
-        PcgSolver pcg(o);
-        EXPECT_EQ(pcg.threads(), 2);
-        const Vector b = random_vector(s.K.rows(), 5);
-        for (int k = 1; k <= 8; ++k) {
-            SparseMatrix A = ((1 + 0.1 * k) * (h * h + h * beta)) * s.K;
-            A.diagonal() += s.mass;
-            Vector x;
-            const PcgResult r = pcg.solve(A, b, x);
-            ASSERT_EQ(r.status, SolveStatus::Ok) << "solve " << k;
-            EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-9)) << "solve " << k;
-            xs.push_back(x);
-            threads.push_back(pcg.threads()); // what the next solve and step use
-        }
-    };
-    std::vector<Vector> xs1, xs2, xs3;
-    std::vector<int> t1, t2, t3;
-    run(true, xs1, t1);
-    run(true, xs2, t2);
-    run(false, xs3, t3);
+    PcgOptions o = background_options();
+    o.threads = 2;
+    const BackgroundRun r1 = run_stiffening_solves(s, o);
+    const BackgroundRun r2 = run_stiffening_solves(s, o);
+    o.amg.background_serial = false;
+    const BackgroundRun r3 = run_stiffening_solves(s, o);
     // after solve:              1  2  3  4  5  6  7  8 (a set-up asked for again at 8)
     const std::vector<int> want { 2, 2, 1, 1, 1, 2, 2, 1 };
-    EXPECT_EQ(t1, want);
-    EXPECT_EQ(t2, want);
-    EXPECT_EQ(t3, std::vector<int>(8, 2));
-    for (std::size_t k = 0; k < xs1.size(); ++k)
-        EXPECT_EQ((xs1[k] - xs2[k]).cwiseAbs().maxCoeff(), 0.0) << "solve " << k + 1;
+    EXPECT_EQ(r1.threads, want);
+    EXPECT_EQ(r2.threads, want);
+    EXPECT_EQ(r3.threads, std::vector<int>(8, 2));
+    expect_bit_for_bit(r1, r2);
 }

@@ -95,16 +95,16 @@ struct PcgSolver::Impl {
     // cuts since the job started: replayed on its hierarchy at the hand-over
     std::vector<RowRemap> job_remaps;
     int remaps_since_setup = 0; ///< cuts the installed hierarchy was carried over
-    int configured_threads = 1; ///< PcgOptions::threads as given (options.threads: now)
+    int threads = 1; ///< of the matrix passes now: options.threads, or 1 (follow_background)
 
     /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
     /// count otherwise. Called where the job starts or is handed over: at fixed solves.
     void follow_background() {
         const int want
-            = options.amg.background_serial && amg_handover >= 0 ? 1 : configured_threads;
-        if (want == options.threads)
+            = options.amg.background_serial && amg_handover >= 0 ? 1 : options.threads;
+        if (want == threads)
             return;
-        options.threads = want;
+        threads = want;
         amg.set_threads(want);
     }
 
@@ -112,8 +112,8 @@ struct PcgSolver::Impl {
         : options(o)
         , amg(o.amg) {
         options.threads = std::max(options.threads, 1);
-        configured_threads = options.threads;
-        amg.set_threads(options.threads);
+        threads = options.threads;
+        amg.set_threads(threads);
         if (options.background_refactor)
             background = std::make_unique<BackgroundCholesky>();
     }
@@ -228,7 +228,7 @@ struct PcgSolver::Impl {
     /// PCG iterations from x; adds to `iterations`.
     SolveStatus iterate(const SparseMatrix& A, const Vector& b, Vector& x, double target,
         Preconditioner use, int& iterations) {
-        multiply_symmetric(A, x, q, options.threads);
+        multiply_symmetric(A, x, q, threads);
         r = b - q;
         double r_norm = r.norm();
         if (!std::isfinite(r_norm))
@@ -242,7 +242,7 @@ struct PcgSolver::Impl {
         for (;;) {
             if (iterations >= options.max_iterations)
                 return SolveStatus::NotConverged;
-            multiply_symmetric(A, p, q, options.threads);
+            multiply_symmetric(A, p, q, threads);
             const double pq = p.dot(q);
             if (!std::isfinite(pq))
                 return SolveStatus::NonFinite;
@@ -330,7 +330,7 @@ struct PcgSolver::Impl {
                 fresh.reset();
         if (!fresh || fresh->size() != A.rows())
             return;
-        fresh->set_threads(options.threads);
+        fresh->set_threads(threads);
         amg.swap(*fresh);
         mark_refactored();
         remaps_since_setup = int(remaps.size());
@@ -613,7 +613,7 @@ void PcgSolver::request_refresh() {
 }
 
 int PcgSolver::threads() const {
-    return m_impl->options.threads;
+    return m_impl->threads;
 }
 
 int PcgSolver::refactorizations() const {
