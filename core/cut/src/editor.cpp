@@ -72,6 +72,17 @@ void Editor::end() {
     report = nullptr;
 }
 
+void Editor::move_node(Index n, const Vec3& X) {
+    // A node this call made is new to the caller: only existing nodes are reported as moved.
+    auto& moved = report->moved_nodes;
+    if (n < report->nodes_before
+        && std::none_of(moved.begin(), moved.end(), [n](const auto& e) { return e.first == n; }))
+        moved.emplace_back(n, at(m.rest, n));
+    at(m.rest, n) = X;
+    for (Index c : at(node_cells, n))
+        touch(c);
+}
+
 void Editor::touch(Index c) {
     if (std::size_t(c) >= m_changed.size()) {
         m_changed.resize(m.cells.size(), 0);

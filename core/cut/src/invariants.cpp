@@ -10,6 +10,22 @@
 
 namespace polycut::cut {
 
+double convexity_violation(const mesh::Mesh& m, Index c) {
+    geometry::Aabb box;
+    for (Index n : m.cells[std::size_t(c)].nodes)
+        box.extend(m.rest[std::size_t(n)]);
+    const double diag = box.diagonal();
+    double worst = 0;
+    for (const auto& loop : m.cell_face_loops(c)) {
+        const auto pts = geometry::gather(m.rest, loop);
+        const Vec3 nrm = geometry::polygon_normal(pts);
+        const Vec3 ctr = geometry::polygon_centroid(pts);
+        for (Index n : m.cells[std::size_t(c)].nodes)
+            worst = std::max(worst, (m.rest[std::size_t(n)] - ctr).dot(nrm));
+    }
+    return diag > 0 ? worst / diag : 0;
+}
+
 CutInvariants check_cut_invariants(
     const mesh::Mesh& m, double volume_before, const InvariantOptions& opt) {
     CutInvariants r;
@@ -37,19 +53,7 @@ CutInvariants check_cut_invariants(
             ++r.nonpositive_cells;
             fail("cell " + std::to_string(c) + " has volume " + std::to_string(v));
         }
-        geometry::Aabb box;
-        for (Index n : m.cells[std::size_t(c)].nodes)
-            box.extend(m.rest[std::size_t(n)]);
-        const double diag = box.diagonal();
-        double worst = 0;
-        for (const auto& loop : loops) {
-            const auto pts = geometry::gather(m.rest, loop);
-            const Vec3 nrm = geometry::polygon_normal(pts);
-            const Vec3 ctr = geometry::polygon_centroid(pts);
-            for (Index n : m.cells[std::size_t(c)].nodes)
-                worst = std::max(worst, (m.rest[std::size_t(n)] - ctr).dot(nrm));
-        }
-        worst = diag > 0 ? worst / diag : 0;
+        const double worst = convexity_violation(m, c);
         r.max_convexity_violation = std::max(r.max_convexity_violation, worst);
         if (worst > opt.convex_tol) {
             ++r.nonconvex_cells;

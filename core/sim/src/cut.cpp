@@ -181,7 +181,15 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     const Index n_old = report.nodes_before, n_new = report.nodes_after;
     // Surviving nodes keep their state (renumbered by node_map when the snap cutter compacted
     // nodes); new nodes take displacement and velocity from the material they came from.
-    const MatX3 x_old = state.x, v_old = state.v;
+    MatX3 x_old = state.x;
+    const MatX3 v_old = state.v;
+    // Nodes the cutter moved in rest space keep their displacement (the material point moved by
+    // the snapping distance, a fraction of a cell; 002 sec. 3.2.2 snaps in the reference
+    // configuration for the same reason). Without renumbering (cell splitting) the shift comes
+    // first, so that new nodes interpolate the moved positions.
+    if (report.node_map.empty())
+        for (const auto& [node, old_rest] : report.moved_nodes)
+            x_old.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
     const std::vector<std::uint8_t> fixed_old = node_fixed_mask;
     const VecX loads_old = scene_forces;
     state.x = MatX3::Zero(n_new, 3);
@@ -237,11 +245,10 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
             node_fixed_mask[3 * std::size_t(o.node) + std::size_t(k)]
                 = o.weights.empty() ? 0 : fixed[std::size_t(k)];
     }
-    // Nodes the snap cutter moved in rest space keep their displacement (the material point
-    // moved by the snap distance, a fraction of a cell; 002 sec. 3.2.2 snaps in the reference
-    // configuration for the same reason).
-    for (const auto& [node, old_rest] : report.moved_nodes)
-        state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
+    // Face snapping renumbers: its moved nodes shift after the copy (ids after the call).
+    if (!report.node_map.empty())
+        for (const auto& [node, old_rest] : report.moved_nodes)
+            state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
     // Renumbered nodes: a full rebuild. Cells merged away (cell_map) keep the survivors' data.
     if (!report.node_map.empty())
         model->rebuild_topology(report.node_map); // the solver's hierarchy follows the map

@@ -77,8 +77,9 @@ struct CutReport {
     /// NodeOrigin weights refer to ids before it.
     std::vector<Index> node_map;
     std::vector<Index> removed_nodes; ///< `tet` only: old ids of nodes removed by edge collapses
-    /// `tet` only: (node id after the call, rest position before the call [m]) of every existing
-    /// node whose rest position the cut moved (snapping onto the sweep, collapses).
+    /// (node id after the call, rest position before the call [m]) of every existing node whose
+    /// rest position the cut moved: face snapping (onto the sweep, collapses) and cell
+    /// splitting (a node snapped onto a sweep triangle's plane moves onto it, decision 0057).
     std::vector<std::pair<Index, Vec3>> moved_nodes;
 };
 
