@@ -855,6 +855,7 @@ class Runner:
             cut["completeness_server"] = round(stats["cut_completeness"], 4)
             cut["cut_area_server_cm2"] = round(1e4 * stats.get("cut_area", 0.0), 4)
             cut["swept_area_server_cm2"] = round(1e4 * stats.get("swept_area", 0.0), 4)
+            cut["swept_area_undone_server_cm2"] = round(1e4 * stats.get("swept_area_undone", 0.0), 4)
         if final is not None:
             cut["area_final_cm2"] = round(1e4 * live.tagged_area(final, 2), 4)
             if cut.get("area_cm2"):

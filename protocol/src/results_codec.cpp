@@ -244,6 +244,7 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         }
         for (auto [name, field] :
             { std::pair { "cut_area", &s.cut_area }, std::pair { "swept_area", &s.swept_area },
+                std::pair { "swept_area_undone", &s.swept_area_undone },
                 std::pair { "cut_completeness", &s.cut_completeness } }) {
             if (const json* v = m.r.optional(name); v != nullptr) {
                 *field = read_number(*v, m.r.at(name), Range { 0.0 }, kCode);
@@ -335,6 +336,7 @@ json encode_result_json(const Result& result, Message& frames) {
                 out["contact_ms"] = r.contact_ms;
                 out["cut_area"] = r.cut_area;
                 out["swept_area"] = r.swept_area;
+                out["swept_area_undone"] = r.swept_area_undone;
                 out["cut_completeness"] = r.cut_completeness;
             }
         },

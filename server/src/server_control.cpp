@@ -502,6 +502,7 @@ protocol::Stats Server::Impl::stats() const {
         const sim::CutAreas a = session.simulation().cut_areas();
         s.cut_area = a.cut_area;
         s.swept_area = a.swept_area;
+        s.swept_area_undone = a.swept_area_undone;
         s.cut_completeness = a.completeness();
     }
     return s;

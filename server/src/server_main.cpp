@@ -145,6 +145,7 @@ int replay(const std::string& log, const std::string& scene_dir, long until_tick
         { "cut_ms_max", worst_cut_ms },
         // As get_stats reports them (rest space, issue 12 item 4), at the last tick.
         { "cut_area", areas.cut_area }, { "swept_area", areas.swept_area },
+        { "swept_area_undone", areas.swept_area_undone },
         { "cut_completeness", areas.completeness() } };
     std::cout << out.dump() << std::endl;
     return summary.rejected == 0 ? 0 : 1;

@@ -385,6 +385,16 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
     }
     if (rest.empty())
         return result;
+    // Rest area the first `count` triangles sweep inside the uncut tissue, less what lies on
+    // earlier cuts; a failed call reports it too (the blade swept it; get_stats counts it).
+    const auto swept = [&](std::size_t count) {
+        double area = 0;
+        for (std::size_t i = 0; i < count; ++i)
+            area += std::max(0.0,
+                area_inside(s.uncut, s.rest_cells().candidates(triangle_box(rest[i])), rest[i])
+                    - s.overlap[i]);
+        return area;
+    };
     // The previous call is accepted now: the undo mirror takes what it changed.
     s.journal.commit(s.mesh);
     try {
@@ -398,6 +408,7 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();
+        result.swept_area = swept(rest.size());
         return result;
     }
     const std::size_t applied = std::size_t(result.report.triangles);
@@ -415,10 +426,7 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
             else
                 ++result.skipped;
     }
-    for (std::size_t i = 0; i < applied; ++i)
-        result.swept_area += std::max(0.0,
-            area_inside(s.uncut, s.rest_cells().candidates(triangle_box(rest[i])), rest[i])
-                - s.overlap[i]);
+    result.swept_area = swept(applied);
     return result;
 }
 

@@ -51,6 +51,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
             s.swept_area += result.swept_area;
             if (budget > 0)
                 s.cut_cells_left -= Index(result.report.changed_cells.size());
+        } else {
+            s.swept_area_undone += result.swept_area;
         }
     }
     summary.cells_after = int(s.mesh.num_cells());
@@ -288,6 +290,7 @@ void Simulation::Impl::restore(const Snapshot& snap, bool published) {
     scene_forces = snap.scene_forces;
     forces = snap.forces;
     grabs = snap.grabs;
+    swept_area_undone += swept_area - snap.swept_area; // cuts this undo takes back
     swept_area = snap.swept_area;
     if (dg) {
         dg = make_dg_part(scene, mesh); // the restored mesh's cells, in their old order

@@ -119,6 +119,9 @@ struct Simulation::Impl {
     surface::Topology topology;
     std::uint64_t topology_version = 1;
     double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
+    /// Rest area swept by cuts that were undone: failed cuts and those a failed step took back
+    /// [m^2]. Not restored by an undo: the blade swept it.
+    double swept_area_undone = 0;
     /// Cube root of the uncut mesh's mean cell volume [m]: the length the cut tolerances and the
     /// blade's minimum advance are relative to.
     double initial_cell_size = 0;

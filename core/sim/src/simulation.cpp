@@ -45,6 +45,7 @@ void Simulation::Impl::build() {
     PartClock clock;
     cut_undo.reset();
     swept_area = 0;
+    swept_area_undone = 0;
     body_volume = initial_mesh.rest_volume();
     initial_cell_size
         = std::cbrt(body_volume / double(std::max<Index>(1, initial_mesh.num_cells())));

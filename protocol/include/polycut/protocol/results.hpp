@@ -137,9 +137,11 @@ struct Stats {
     double contact_ms = 0.0; ///< contact work of the last tick [ms]
     /// Cuts since the scene was loaded (issue 12 item 4), in rest space: the area of the cut
     /// surface, both lips [m^2]; the area the applied sweep triangles swept inside the uncut
-    /// tissue [m^2]; cut_area / (2 swept_area) (0 before any cut).
+    /// tissue [m^2]; the area swept by cuts that were undone (failed, or taken back with a
+    /// failed step) [m^2]; cut_area / (2 (swept_area + swept_area_undone)) (0 before any cut).
     double cut_area = 0.0;
     double swept_area = 0.0;
+    double swept_area_undone = 0.0;
     double cut_completeness = 0.0;
     bool operator==(const Stats&) const = default;
 };

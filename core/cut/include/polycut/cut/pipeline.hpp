@@ -53,7 +53,9 @@ struct CutResult {
     std::size_t deferred = 0; ///< trailing input triangles not consumed (Deferred)
     std::size_t cut = 0; ///< triangles handed to the cutter
     std::size_t skipped = 0; ///< too small at the tissue's scale, or outside it: no change
-    double swept_area = 0; ///< rest area of the cut triangles inside the uncut tissue [m^2]
+    /// Rest area of the cut triangles inside the uncut tissue [m^2]; for Failed, of the
+    /// triangles the failed call was given.
+    double swept_area = 0;
     /// Rejected: index of the offending input triangle, and its corner (-1 for the whole
     /// triangle); the server turns them into a JSON pointer.
     std::ptrdiff_t rejected_triangle = -1;

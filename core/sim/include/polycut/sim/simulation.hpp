@@ -102,6 +102,11 @@ struct CutSummary {
     double cut_ms = 0;
 };
 
+/// cut / (2 swept), 0 before anything was swept (issue 12 item 4).
+inline double cut_completeness(double cut_area, double swept_area) {
+    return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0;
+}
+
 /// Mesh figures the runner reports.
 struct MeshStats {
     Index nodes = 0, cells = 0, boundary_triangles = 0, components = 0;
@@ -112,16 +117,20 @@ struct MeshStats {
     /// Rest-space area the blade swept inside the uncut tissue, summed over the cuts applied
     /// (a re-cut over an earlier cut counts again) [m^2].
     double swept_area = 0;
-    /// cut_area / (2 swept_area): 1 when the cut opened exactly what the blade swept (issue 12
-    /// item 4); 0 before any cut.
-    double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
+    /// Rest-space area the blade swept inside the uncut tissue in cuts that were undone (a cut
+    /// that failed, or the cuts a failed step took back) [m^2]: uncut, but swept.
+    double swept_area_undone = 0;
+    /// cut_area / (2 (swept_area + swept_area_undone)): 1 when the cut opened exactly what the
+    /// blade swept (issue 12 item 4); 0 before any cut.
+    double completeness() const { return cut_completeness(cut_area, swept_area + swept_area_undone); }
 };
 
 /// The cut figures of MeshStats alone (Simulation::cut_areas, O(faces)).
 struct CutAreas {
     double cut_area = 0; ///< as MeshStats::cut_area [m^2]
     double swept_area = 0; ///< as MeshStats::swept_area [m^2]
-    double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
+    double swept_area_undone = 0; ///< as MeshStats::swept_area_undone [m^2]
+    double completeness() const { return cut_completeness(cut_area, swept_area + swept_area_undone); }
 };
 
 /// Mechanical energy of the current state [J] (issue 17 item 4: with damping and no input, the
