@@ -148,7 +148,8 @@ public:
     /// thread the cells across ranges. Every entry thus sums its terms in an order fixed by T:
     /// results are deterministic for a given T, and T = 1 is the plain serial loop. Meshes
     /// numbered for locality (mesh::reorder_for_locality, box grids) leave few cells across
-    /// ranges; after a cut, the new nodes' cells go to the serial part.
+    /// ranges; after a cut, new nodes take the range of the cells that made them, so a cut's
+    /// cells stay in their thread.
     void set_threads(int threads) override;
     int threads() const override { return m_threads; }
     /// Cells of the serial part of a threaded assembly (0 when serial), for reports and tests.
@@ -235,6 +236,9 @@ private:
     /// Threaded assembly: cells per thread (all nodes in its range), then the rest (serial).
     std::vector<std::vector<Index>> m_thread_cells;
     std::vector<Index> m_shared_cells;
+    /// Nodes the assembly's node ranges were made on (later nodes, appended by cuts, take the
+    /// range of their cells); 0 until the first partition or after a renumbering.
+    Index m_partition_nodes = 0;
     /// Flat copies for the stretch check (cache-friendly): cell nodes (CSR by cell, rebuilt
     /// with the pattern) and max_k |X_k - X_0|^2 per cell [m^2] (with the cell data).
     std::vector<std::size_t> m_node_offset;
