@@ -243,4 +243,3 @@ TEST(ModelUpdate, ACutsCellsStayInTheirThreadOfTheAssembly) {
     elasticity::ElasticModel fresh(m, mat, {}, fixed_for(m));
     expect_same_system(model, fresh, m, 7);
 }
-

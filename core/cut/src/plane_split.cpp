@@ -33,8 +33,8 @@ Vec3 volume_keeping_direction(Editor& ed, Index n, const Vec3& want) {
         for (Index f : at(ed.m.cells, c).faces) {
             const mesh::Face& face = at(ed.m.faces, f);
             if (face.boundary() && find_in(face.nodes, n) >= 0)
-                normals.push_back(geometry::polygon_normal(geometry::gather(ed.m.rest, face.nodes))
-                        .normalized());
+                normals.push_back(
+                    geometry::polygon_normal(geometry::gather(ed.m.rest, face.nodes)).normalized());
         }
     if (normals.empty())
         return want;

@@ -7,6 +7,7 @@
 
 #include "amg_preconditioner.hpp"
 #include "background_priority.hpp"
+#include "jacobi.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/solve/background_cholesky.hpp"
 #include "two_level.hpp"
@@ -20,42 +21,6 @@
 #include <vector>
 
 namespace polycut::solve {
-
-const char* to_string(Preconditioner p) {
-    switch (p) {
-    case Preconditioner::None:
-        return "none";
-    case Preconditioner::Jacobi:
-        return "jacobi";
-    case Preconditioner::BlockJacobi3:
-        return "block_jacobi3";
-    case Preconditioner::LaggedCholesky:
-        return "lagged_cholesky";
-    case Preconditioner::IncompleteCholesky:
-        return "incomplete_cholesky";
-    case Preconditioner::Amg:
-        return "amg";
-    case Preconditioner::BlockJacobi:
-        return "block_jacobi";
-    case Preconditioner::TwoLevel:
-        return "two_level";
-    }
-    return "unknown";
-}
-
-namespace {
-
-/// Position of entry (row, col) in compressed column storage, or -1.
-long find_entry(const SparseMatrix& A, int row, int col) {
-    const int* inner = A.innerIndexPtr();
-    const int begin = A.outerIndexPtr()[col];
-    const int end
-        = A.isCompressed() ? A.outerIndexPtr()[col + 1] : begin + A.innerNonZeroPtr()[col];
-    const int* it = std::lower_bound(inner + begin, inner + end, row);
-    return (it != inner + end && *it == row) ? it - inner : -1;
-}
-
-} // namespace
 
 struct PcgSolver::Impl {
     PcgOptions options;
@@ -100,8 +65,7 @@ struct PcgSolver::Impl {
     /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
     /// count otherwise. Called where the job starts or is handed over: at fixed solves.
     void follow_background() {
-        const int want
-            = options.amg.background_serial && amg_handover >= 0 ? 1 : options.threads;
+        const int want = options.amg.background_serial && amg_handover >= 0 ? 1 : options.threads;
         if (want == threads)
             return;
         threads = want;
@@ -127,56 +91,10 @@ struct PcgSolver::Impl {
         q.resize(n);
     }
 
-    SolveStatus setup_jacobi(const SparseMatrix& A) {
-        const long n = A.rows();
-        inv_diag.resize(n);
-        for (long j = 0; j < n; ++j) {
-            const long k = find_entry(A, static_cast<int>(j), static_cast<int>(j));
-            const double d = k < 0 ? 0.0 : A.valuePtr()[k];
-            if (!std::isfinite(d))
-                return SolveStatus::NonFinite;
-            if (!(d > 0))
-                return SolveStatus::NotPositiveDefinite;
-            inv_diag[j] = 1.0 / d;
-        }
-        return SolveStatus::Ok;
-    }
+    SolveStatus setup_jacobi(const SparseMatrix& A) { return detail::invert_diagonal(A, inv_diag); }
 
     SolveStatus setup_block_jacobi(const SparseMatrix& A) {
-        const long n = A.rows();
-        const long blocks = n / 3;
-        inv_blocks.resize(static_cast<size_t>(blocks));
-        const int* inner = A.innerIndexPtr();
-        const double* values = A.valuePtr();
-        for (long b = 0; b < blocks; ++b) {
-            Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
-            for (int c = 0; c < 3; ++c) {
-                const int col = static_cast<int>(3 * b + c);
-                const int begin = A.outerIndexPtr()[col];
-                const int end = A.isCompressed() ? A.outerIndexPtr()[col + 1]
-                                                 : begin + A.innerNonZeroPtr()[col];
-                const int* it = std::lower_bound(inner + begin, inner + end, 3 * b);
-                for (; it != inner + end && *it < 3 * b + 3; ++it)
-                    block(*it - 3 * b, c) = values[it - inner];
-            }
-            if (!block.allFinite())
-                return SolveStatus::NonFinite;
-            // a diagonal block of an SPD matrix is SPD
-            const Eigen::LLT<Eigen::Matrix3d> llt(block);
-            if (llt.info() != Eigen::Success)
-                return SolveStatus::NotPositiveDefinite;
-            inv_blocks[static_cast<size_t>(b)] = llt.solve(Eigen::Matrix3d::Identity());
-        }
-        // trailing rows that do not fill a node block: scalar Jacobi
-        inv_diag.resize(n);
-        for (long j = 3 * blocks; j < n; ++j) {
-            const long k = find_entry(A, static_cast<int>(j), static_cast<int>(j));
-            const double d = k < 0 ? 0.0 : values[k];
-            if (!(d > 0))
-                return std::isfinite(d) ? SolveStatus::NotPositiveDefinite : SolveStatus::NonFinite;
-            inv_diag[j] = 1.0 / d;
-        }
-        return SolveStatus::Ok;
+        return detail::invert_node_blocks(A, inv_blocks, inv_diag);
     }
 
     SolveStatus setup_cell_blocks(const SparseMatrix& A) {

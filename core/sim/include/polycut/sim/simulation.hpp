@@ -122,7 +122,9 @@ struct MeshStats {
     double swept_area_undone = 0;
     /// cut_area / (2 (swept_area + swept_area_undone)): 1 when the cut opened exactly what the
     /// blade swept (issue 12 item 4); 0 before any cut.
-    double completeness() const { return cut_completeness(cut_area, swept_area + swept_area_undone); }
+    double completeness() const {
+        return cut_completeness(cut_area, swept_area + swept_area_undone);
+    }
 };
 
 /// The cut figures of MeshStats alone (Simulation::cut_areas, O(faces)).
@@ -130,7 +132,9 @@ struct CutAreas {
     double cut_area = 0; ///< as MeshStats::cut_area [m^2]
     double swept_area = 0; ///< as MeshStats::swept_area [m^2]
     double swept_area_undone = 0; ///< as MeshStats::swept_area_undone [m^2]
-    double completeness() const { return cut_completeness(cut_area, swept_area + swept_area_undone); }
+    double completeness() const {
+        return cut_completeness(cut_area, swept_area + swept_area_undone);
+    }
 };
 
 /// Mechanical energy of the current state [J] (issue 17 item 4: with damping and no input, the
