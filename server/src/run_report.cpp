@@ -106,8 +106,9 @@ nlohmann::json to_json(const RunRecord& r) {
                 r.cut_ms.empty() ? 0.0 : *std::max_element(r.cut_ms.begin(), r.cut_ms.end()) },
             { "cut_ms", summary_json(summarize(r.cut_ms)) }, { "cut_area", r.after.cut_area },
             { "swept_area", r.after.swept_area },
-            { "swept_area_undone", r.after.swept_area_undone }, { "completeness", r.after.completeness() },
-            { "failed_cuts", r.failed_cuts }, { "undone_cuts", r.undone_cuts } };
+            { "swept_area_undone", r.after.swept_area_undone },
+            { "completeness", r.after.completeness() }, { "failed_cuts", r.failed_cuts },
+            { "undone_cuts", r.undone_cuts } };
         j["mesh_after"] = mesh_json(r.after);
     }
     if (!r.bodies.empty()) {

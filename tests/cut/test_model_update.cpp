@@ -27,17 +27,23 @@ std::vector<std::uint8_t> fixed_for(const mesh::Mesh& mm) {
     return elasticity::fix_nodes(nodes);
 }
 
-/// The updated model and one built afresh on the same mesh give the same stiffness, forces and
-/// mass at a random deformed state, corotated.
-void expect_same_system(elasticity::ElasticModel& model, elasticity::ElasticModel& fresh,
-    const mesh::Mesh& m, unsigned seed) {
-    ASSERT_EQ(model.num_free_dofs(), fresh.num_free_dofs());
+/// The rest positions moved by up to 1 mm per axis at random (a deformed state).
+MatX3 jittered(const mesh::Mesh& m, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> jitter(-1e-3, 1e-3);
     MatX3 x(m.num_nodes(), 3);
     for (Index i = 0; i < m.num_nodes(); ++i)
         x.row(i)
             = (m.rest[std::size_t(i)] + Vec3(jitter(rng), jitter(rng), jitter(rng))).transpose();
+    return x;
+}
+
+/// The updated model and one built afresh on the same mesh give the same stiffness, forces and
+/// mass at a random deformed state, corotated.
+void expect_same_system(elasticity::ElasticModel& model, elasticity::ElasticModel& fresh,
+    const mesh::Mesh& m, unsigned seed) {
+    ASSERT_EQ(model.num_free_dofs(), fresh.num_free_dofs());
+    const MatX3 x = jittered(m, seed);
     SparseMatrix K1 = model.make_matrix(), K2 = fresh.make_matrix();
     // The pattern is a function of the mesh: an incremental update must give the same arrays.
     ASSERT_EQ(K1.nonZeros(), K2.nonZeros());
@@ -226,12 +232,7 @@ TEST(ModelUpdate, ACutsCellsStayInTheirThreadOfTheAssembly) {
         << "shared " << shared_before << " -> " << model.shared_cells() << ", " << added
         << " cells added";
     // The threaded assembly of the cut model equals the serial one to the order of sums.
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> jitter(-1e-3, 1e-3);
-    MatX3 x(m.num_nodes(), 3);
-    for (Index i = 0; i < m.num_nodes(); ++i)
-        x.row(i)
-            = (m.rest[std::size_t(i)] + Vec3(jitter(rng), jitter(rng), jitter(rng))).transpose();
+    const MatX3 x = jittered(m, 5);
     SparseMatrix K2 = model.make_matrix(), K1 = model.make_matrix();
     VecX f2, f1;
     model.assemble(x, elasticity::ForceMode::Corotated, &K2, &f2);

@@ -5,9 +5,8 @@
 // those loops leaves every face polygon, every cell, the volume and the surface exactly as they
 // were, and takes its three DOFs out of the system. Crack-front corners, polygon vertices and
 // T-junction corners turn in some face and stay.
-#include "sweep.hpp"
-
 #include "polycut/geometry/polygon.hpp"
+#include "sweep.hpp"
 
 #include <algorithm>
 

@@ -22,10 +22,10 @@ int PlaneClassifier::sign(Index n) {
 }
 
 namespace {
-/// The direction a node may move in without changing the rest volume: any (the zero vector's
-/// complement, returned as `want`) for an interior node; within the plane of its skin where its
-/// boundary faces are coplanar; along the crease where they lie in two planes; none (zero)
-/// otherwise. `want` is the direction that reaches the cut plane fastest (its normal).
+/// The unit direction node n moves in to reach the cut plane without changing the rest volume:
+/// `want` (the plane's normal) for an interior node; `want` projected into the skin where the
+/// node's boundary faces are coplanar; along the crease where they lie in two planes; zero (no
+/// move) at a corner or where the projection vanishes.
 Vec3 volume_keeping_direction(Editor& ed, Index n, const Vec3& want) {
     constexpr double kSamePlane = 1e-6; // |a x b| of unit normals: the same skin plane
     std::vector<Vec3> normals;
