@@ -10,7 +10,9 @@
 #include "polycut/solve/pcg.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <gtest/gtest.h>
 #include <limits>
 #include <memory>
@@ -375,6 +377,37 @@ TEST(Amg, ScalarProblemWhenSizeIsNotAMultipleOfTheFunctions) {
     ASSERT_EQ(r.status, SolveStatus::Ok);
     EXPECT_LE(Vector(A * x - b).norm(), 1e-10 * b.norm() * (1 + 1e-9));
     EXPECT_LT(r.iterations, 15);
+}
+
+TEST(Amg, EachProcessKeepsItsOpenMpiSessionInADirectoryOfItsOwn) {
+    // Isolated Open MPI singletons all name their session directory .../jf.0/1/0; under a shared
+    // /tmp base one process's MPI_Finalize removed jf.0 while another's MPI_Init created it, and
+    // that MPI_Init aborted (CI, ctest -j2). The runtime gives each process its own base.
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK"))
+        GTEST_SKIP() << "started by an MPI launcher: the launcher owns the session directory";
+    PcgSolver pcg(amg_options(1e-10));
+    const int n = 30; // 1D Laplacian + shift
+    std::vector<Eigen::Triplet<double, int>> t;
+    for (int i = 0; i < n; ++i) {
+        t.emplace_back(i, i, 2.01);
+        if (i + 1 < n) {
+            t.emplace_back(i, i + 1, -1.0);
+            t.emplace_back(i + 1, i, -1.0);
+        }
+    }
+    SparseMatrix A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    Vector x;
+    ASSERT_EQ(pcg.solve(A, Vector::Ones(n), x).status, SolveStatus::Ok);
+    const char* base = std::getenv("OMPI_MCA_orte_tmpdir_base");
+    ASSERT_NE(base, nullptr);
+    const std::filesystem::path dir(base);
+    EXPECT_NE(dir.filename().string().find("polycut-mpi-"), std::string::npos) << dir;
+    ASSERT_TRUE(std::filesystem::is_directory(dir)) << dir;
+    bool open_mpi_used_it = false; // Open MPI made its ompi.<host>.<uid> tree in it
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        open_mpi_used_it |= e.path().filename().string().rfind("ompi.", 0) == 0;
+    EXPECT_TRUE(open_mpi_used_it) << dir;
 }
 
 TEST(Amg, IndefiniteAndNonFiniteInputsAreReported) {
