@@ -26,6 +26,28 @@ double convexity_violation(const mesh::Mesh& m, Index c) {
     return diag > 0 ? worst / diag : 0;
 }
 
+std::string open_cell_problem(const mesh::Mesh& m, Index c) {
+    std::vector<std::pair<Index, Index>> edges;
+    const auto loops = m.cell_face_loops(c);
+    if (loops.size() < 4)
+        return "only " + std::to_string(loops.size()) + " faces";
+    for (const auto& loop : loops)
+        for (std::size_t k = 0; k < loop.size(); ++k)
+            edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
+    std::sort(edges.begin(), edges.end());
+    const auto edge = [](const std::pair<Index, Index>& e) {
+        return "edge (" + std::to_string(e.first) + ", " + std::to_string(e.second) + ")";
+    };
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (i + 1 < edges.size() && edges[i] == edges[i + 1])
+            return edge(edges[i]) + " is used twice in the same direction (a flipped face)";
+        if (!std::binary_search(
+                edges.begin(), edges.end(), std::make_pair(edges[i].second, edges[i].first)))
+            return edge(edges[i]) + " has no opposite edge (the cell is open)";
+    }
+    return {};
+}
+
 CutInvariants check_cut_invariants(
     const mesh::Mesh& m, double volume_before, const InvariantOptions& opt) {
     CutInvariants r;

@@ -5,6 +5,7 @@
 #include "polycut/common/stats.hpp"
 #include "polycut/cut/completeness.hpp"
 #include "polycut/cut/cutter.hpp"
+#include "polycut/cut/invariants.hpp"
 #include "polycut/cut/world_to_rest.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "stroke_snap.hpp"
@@ -15,7 +16,23 @@
 #include <set>
 
 namespace polycut::cut {
+
 namespace {
+
+/// Mechanical sanity after the cutter (issue 12 item 3): each cell it changed must be a closed,
+/// consistently oriented polyhedron. A geometric corner case the cutter gets wrong (a fuzz input
+/// left a flipped face in a re-cut hex grid) becomes a failed cut, undone, instead of a model
+/// built on a broken cell. O(cells changed).
+void require_closed_cells(const mesh::Mesh& mesh, const CutReport& report) {
+    for (Index c : report.changed_cells) {
+        if (c < 0 || c >= mesh.num_cells())
+            continue;
+        if (const std::string why = open_cell_problem(mesh, c); !why.empty())
+            throw Error("cut", "cell " + std::to_string(c) + " is not closed after the cut: " + why);
+    }
+}
+
+
 geometry::Aabb triangle_box(const Triangle& t) {
     geometry::Aabb b;
     for (const Vec3& p : t)
@@ -405,6 +422,7 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
                                  : s.splitter->cut(rest, max_changed_cells);
         s.journal.record(result.report);
         s.cells_changed(result.report);
+        require_closed_cells(s.mesh, result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();
@@ -444,6 +462,7 @@ CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
         result.report = s.snapper->finish_sweep();
         s.journal.record(result.report);
         s.cells_changed(result.report);
+        require_closed_cells(s.mesh, result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();
