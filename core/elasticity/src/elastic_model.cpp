@@ -115,7 +115,15 @@ void ElasticModel::compute_cells(std::span<const Index> cells) {
     m_p1.resize(m_cells.size());
     std::vector<std::exception_ptr> errors(cells.size());
     const long n = long(cells.size());
-#pragma omp parallel for num_threads(m_threads) schedule(dynamic, 16) if (m_threads > 1 && n > 32)
+    // A P1 tet or a Q1 hex takes microseconds, a general polyhedron's mean value or harmonic
+    // set-up ~0.5 ms: a cut's 5-20 new cells are worth both threads (they ran on one below 33
+    // cells), so they go one at a time to whichever thread is free.
+    const long polyhedra = std::count_if(cells.begin(), cells.end(), [&](Index c) {
+        return m_mesh->cells[std::size_t(c)].shape == mesh::CellShape::Polyhedron;
+    });
+    const bool parallel = m_threads > 1 && (n > 32 || polyhedra > 1);
+    const int chunk = n > 256 ? 16 : 1;
+#pragma omp parallel for num_threads(m_threads) schedule(dynamic, chunk) if (parallel)
     for (long k = 0; k < n; ++k) {
         try {
             compute_cell(cells[std::size_t(k)]);
