@@ -5,13 +5,14 @@
 // add scheduling noise to.
 //
 //   bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N] [--settle S] [--depth D]
-//             [--strokes K] [--offset Y]
+//             [--strokes K] [--offset Y] [--after A]
 //
 // The stroke: a blade from 2 cm above the tissue's top down to D x its height (default 0.4),
 // in the plane y = centre + Y (default 2.5 mm: between grid planes on the shipped boxes), moving
 // along x over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps
 // of settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
-// deformed body (default 1). One JSON object per scene on stdout:
+// deformed body (default 1); then A ticks of stepping without a cut (default 0): the hand-over
+// of the set-up the end of the stroke asks for. One JSON object per scene on stdout:
 //   nodes, cells (before/after), cutter
 //   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)
 //   cut_cpu_ms, tick_cpu_ms                        the same in CPU time of the process (all
@@ -21,6 +22,7 @@
 //   ticks_over_16_7, ticks_over_50                 ticks above the 60 Hz budget / the 50 ms bound
 //   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
 //   undo_reasons                                   the reasons of the first failed or undone cuts
+//   after {tick_ms, its}                           with --after: the ticks after the strokes
 // With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (wall ms of the tick, its
 // cut, assembly and solves; CPU ms; cells; PCG iterations).
 #include "polycut/common/error.hpp"
@@ -52,6 +54,7 @@ struct Args {
     double depth = 0.4;
     int strokes = 1; // the same stroke again, in world space, after the first (a re-cut)
     double offset = 0.0025; // the blade's plane: y = centre + offset [m]
+    int after = 0; // ticks stepped after the last stroke
 };
 
 /// CPU time of the process, all threads [ms].
@@ -204,6 +207,17 @@ json run(const std::string& path, const Args& a) {
         failed += s.end_stroke().ok() ? 0 : 1;
         undone += s.step().cut_undone ? 1 : 0;
     }
+    std::vector<double> after_ms, after_its;
+    for (int k = 1; k <= a.after; ++k) {
+        Stopwatch tick;
+        const sim::StepReport r = s.step();
+        after_ms.push_back(tick.ms());
+        after_its.push_back(double(r.solver_iterations));
+        undone += r.cut_undone ? 1 : 0;
+        if (std::getenv("BENCH_CUT_TRACE"))
+            std::fprintf(stderr, "after %d wall %.1f asm %.1f solve %.1f its %d\n", k,
+                after_ms.back(), r.assembly_ms, r.solve_ms, r.solver_iterations);
+    }
     const sim::MeshStats st = s.mesh_stats();
     const sim::ModelStats ms = s.model_stats();
     return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
@@ -215,7 +229,11 @@ json run(const std::string& path, const Args& a) {
         { "cut_cpu_ms", percentiles(cut_cpu) }, { "tick_cpu_ms", percentiles(tick_cpu) },
         { "ticks_over_16_7", over_budget }, { "ticks_over_50", over_50 },
         { "completeness", st.completeness() }, { "failed_cuts", failed },
-        { "deferred_triangles", deferred }, { "undone", undone }, { "undo_reasons", reasons } };
+        { "deferred_triangles", deferred }, { "undone", undone }, { "undo_reasons", reasons },
+        { "after",
+            a.after > 0
+                ? json { { "tick_ms", percentiles(after_ms) }, { "its", percentiles(after_its) } }
+                : json() } };
 }
 
 } // namespace
@@ -241,12 +259,14 @@ int main(int argc, char** argv) {
             a.offset = std::stod(value());
         else if (arg == "--strokes")
             a.strokes = std::stoi(value());
+        else if (arg == "--after")
+            a.after = std::stoi(value());
         else
             a.scenes.push_back(arg);
     }
     if (a.scenes.empty() || a.ticks < 2) {
         std::cerr << "usage: bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N >= 2] "
-                     "[--settle S] [--depth D] [--strokes K] [--offset Y]\n";
+                     "[--settle S] [--depth D] [--strokes K] [--offset Y] [--after A]\n";
         return 2;
     }
     try {
