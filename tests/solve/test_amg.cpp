@@ -18,7 +18,9 @@
 #include <memory>
 #include <numeric>
 #include <random>
+#include <string>
 #include <tuple>
+#include <unistd.h>
 
 using namespace polycut;
 using namespace polycut::solve;
@@ -382,9 +384,23 @@ TEST(Amg, ScalarProblemWhenSizeIsNotAMultipleOfTheFunctions) {
 TEST(Amg, EachProcessKeepsItsOpenMpiSessionInADirectoryOfItsOwn) {
     // Isolated Open MPI singletons all name their session directory .../jf.0/1/0; under a shared
     // /tmp base one process's MPI_Finalize removed jf.0 while another's MPI_Init created it, and
-    // that MPI_Init aborted (CI, ctest -j2). The runtime gives each process its own base.
-    if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK"))
-        GTEST_SKIP() << "started by an MPI launcher: the launcher owns the session directory";
+    // that MPI_Init aborted (CI, ctest -j2). The runtime gives each process its own base under
+    // $TMPDIR, and does not pass it on to child processes.
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK")
+        || std::getenv("OMPI_MCA_orte_tmpdir_base"))
+        GTEST_SKIP() << "an MPI launcher or the user chose the session directory";
+    const std::filesystem::path tmp
+        = std::filesystem::temp_directory_path() / ("amg_session_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(tmp);
+    // removed at exit after the runtime's own exit handler (registered later, run earlier) has
+    // finalized MPI and removed the base in it
+    static std::string scratch;
+    scratch = tmp.string();
+    std::atexit([] {
+        std::error_code ec;
+        std::filesystem::remove_all(scratch, ec);
+    });
+    setenv("TMPDIR", tmp.c_str(), 1); // read when MPI starts: the first AMG use in this process
     PcgSolver pcg(amg_options(1e-10));
     const int n = 30; // 1D Laplacian + shift
     std::vector<Eigen::Triplet<double, int>> t;
@@ -399,15 +415,19 @@ TEST(Amg, EachProcessKeepsItsOpenMpiSessionInADirectoryOfItsOwn) {
     A.setFromTriplets(t.begin(), t.end());
     Vector x;
     ASSERT_EQ(pcg.solve(A, Vector::Ones(n), x).status, SolveStatus::Ok);
-    const char* base = std::getenv("OMPI_MCA_orte_tmpdir_base");
-    ASSERT_NE(base, nullptr);
-    const std::filesystem::path dir(base);
-    EXPECT_NE(dir.filename().string().find("polycut-mpi-"), std::string::npos) << dir;
-    ASSERT_TRUE(std::filesystem::is_directory(dir)) << dir;
+    unsetenv("TMPDIR");
+    EXPECT_EQ(std::getenv("OMPI_MCA_orte_tmpdir_base"), nullptr); // children make their own
+    std::vector<std::filesystem::path> bases;
+    for (const auto& e : std::filesystem::directory_iterator(tmp))
+        bases.push_back(e.path());
+    if (bases.empty())
+        GTEST_SKIP() << "MPI was started earlier in this process (run the test on its own)";
+    ASSERT_EQ(bases.size(), 1u);
+    EXPECT_EQ(bases[0].filename().string().rfind("polycut-mpi-", 0), 0u) << bases[0];
     bool open_mpi_used_it = false; // Open MPI made its ompi.<host>.<uid> tree in it
-    for (const auto& e : std::filesystem::directory_iterator(dir))
+    for (const auto& e : std::filesystem::directory_iterator(bases[0]))
         open_mpi_used_it |= e.path().filename().string().rfind("ompi.", 0) == 0;
-    EXPECT_TRUE(open_mpi_used_it) << dir;
+    EXPECT_TRUE(open_mpi_used_it) << bases[0];
 }
 
 TEST(Amg, IndefiniteAndNonFiniteInputsAreReported) {

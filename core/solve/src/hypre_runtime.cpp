@@ -12,7 +12,8 @@
 //   shared /tmp base, one process finalizing removes jf.0 while another creates it, and the
 //   other's MPI_Init aborts ("A call to mkdir was unable to create the desired directory ...
 //   jf.0", Open MPI issue #3818; seen in CI under ctest -j2). The directory
-//   ($TMPDIR or /tmp)/polycut-mpi-XXXXXX is made with mkdtemp and removed after MPI_Finalize.
+//   ($TMPDIR or /tmp)/polycut-mpi-XXXXXX is made with mkdtemp, named to Open MPI for its
+//   MPI_Init only (child processes make their own), and removed after MPI_Finalize.
 // Running as root needs no OMPI_ALLOW_RUN_AS_ROOT: that check is in mpirun, not in MPI_Init.
 // If a launcher started us (OMPI_COMM_WORLD_SIZE / PMI_RANK / PMIX_RANK set), nothing is touched.
 // MPI_Finalize runs at exit once the last AMG object is gone (a later one, e.g. a static
@@ -123,6 +124,10 @@ void initialize_locked(Runtime& r) {
             return;
         }
         r.mpi_ours = true;
+        // Open MPI has read its parameters: processes we start (a server, a test's child)
+        // make their own session directory instead of sharing ours.
+        if (!r.session_base.empty())
+            unsetenv("OMPI_MCA_orte_tmpdir_base");
     }
     // errors on our communicator come back as codes instead of aborting the process
     MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
