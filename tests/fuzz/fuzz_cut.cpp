@@ -256,6 +256,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             + describe(calls[k].front()) + " status " + std::to_string(int(r.status)) + " "
             + r.reason;
         if (r.status == Status::Rejected || r.status == Status::Failed) {
+            if (std::getenv("FUZZ_CUT_VERBOSE") != nullptr) {
+                std::fprintf(
+                    stderr, "call %zu: refused (%d): %s\n", k, int(r.status), r.reason.c_str());
+            }
             if (sim.state_hash() != hash || sim.cell_count() != cells
                 || sim.topology_version() != topology) {
                 fail("a refused cut changed the state", where);
