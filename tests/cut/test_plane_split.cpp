@@ -80,10 +80,10 @@ TEST(PlaneSplit, OpenCellProblemNamesAFlippedFaceAndAnOpenCell) {
         EXPECT_EQ(cut::open_cell_problem(m, c), "") << "cell " << c;
     auto flipped = m;
     const Index f = flipped.cells[0].faces.front();
-    std::reverse(flipped.faces[std::size_t(f)].nodes.begin(),
-        flipped.faces[std::size_t(f)].nodes.end());
-    EXPECT_NE(cut::open_cell_problem(flipped, 0).find("twice in the same direction"),
-        std::string::npos);
+    std::reverse(
+        flipped.faces[std::size_t(f)].nodes.begin(), flipped.faces[std::size_t(f)].nodes.end());
+    EXPECT_NE(
+        cut::open_cell_problem(flipped, 0).find("twice in the same direction"), std::string::npos);
     auto open = m;
     open.cells[0].faces.pop_back();
     EXPECT_NE(cut::open_cell_problem(open, 0).find("no opposite edge"), std::string::npos);

@@ -31,6 +31,21 @@ using polycut::solve::testing::random_vector;
 
 namespace {
 
+/// The 1D Laplacian plus a shift (diagonal 2.01, off-diagonals -1) of size n: SPD, scalar.
+SparseMatrix shifted_laplacian_1d(int n) {
+    std::vector<Eigen::Triplet<double, int>> t;
+    for (int i = 0; i < n; ++i) {
+        t.emplace_back(i, i, 2.01);
+        if (i + 1 < n) {
+            t.emplace_back(i, i + 1, -1.0);
+            t.emplace_back(i + 1, i, -1.0);
+        }
+    }
+    SparseMatrix A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+}
+
 /// PCG iterations from zero to `tol` on K u = b, b random (AMG settings `amg`; `coordinates` for
 /// the rigid-body modes).
 int iterations(const SparseMatrix& A, Preconditioner p, double tol, const AmgOptions& amg,
@@ -360,18 +375,9 @@ TEST(Amg, AFreshHierarchyThatDoesNoBetterIsKept) {
 }
 
 TEST(Amg, ScalarProblemWhenSizeIsNotAMultipleOfTheFunctions) {
-    // 1D Laplacian + shift, n = 100 (not a multiple of 3): scalar AMG
+    // n = 100, not a multiple of 3: scalar AMG
     const int n = 100;
-    std::vector<Eigen::Triplet<double, int>> t;
-    for (int i = 0; i < n; ++i) {
-        t.emplace_back(i, i, 2.01);
-        if (i + 1 < n) {
-            t.emplace_back(i, i + 1, -1.0);
-            t.emplace_back(i + 1, i, -1.0);
-        }
-    }
-    SparseMatrix A(n, n);
-    A.setFromTriplets(t.begin(), t.end());
+    const SparseMatrix A = shifted_laplacian_1d(n);
     PcgSolver pcg(amg_options(1e-10));
     const Vector b = random_vector(n, 2);
     Vector x;
@@ -402,17 +408,8 @@ TEST(Amg, EachProcessKeepsItsOpenMpiSessionInADirectoryOfItsOwn) {
     });
     setenv("TMPDIR", tmp.c_str(), 1); // read when MPI starts: the first AMG use in this process
     PcgSolver pcg(amg_options(1e-10));
-    const int n = 30; // 1D Laplacian + shift
-    std::vector<Eigen::Triplet<double, int>> t;
-    for (int i = 0; i < n; ++i) {
-        t.emplace_back(i, i, 2.01);
-        if (i + 1 < n) {
-            t.emplace_back(i, i + 1, -1.0);
-            t.emplace_back(i + 1, i, -1.0);
-        }
-    }
-    SparseMatrix A(n, n);
-    A.setFromTriplets(t.begin(), t.end());
+    const int n = 30;
+    const SparseMatrix A = shifted_laplacian_1d(n);
     Vector x;
     ASSERT_EQ(pcg.solve(A, Vector::Ones(n), x).status, SolveStatus::Ok);
     unsetenv("TMPDIR");

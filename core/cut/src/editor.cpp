@@ -3,10 +3,10 @@
 #include "polycut/geometry/polygon.hpp"
 
 #include <algorithm>
-#include <numeric>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 
 namespace polycut::cut::detail {
 

@@ -28,10 +28,10 @@ void require_closed_cells(const mesh::Mesh& mesh, const CutReport& report) {
         if (c < 0 || c >= mesh.num_cells())
             continue;
         if (const std::string why = open_cell_problem(mesh, c); !why.empty())
-            throw Error("cut", "cell " + std::to_string(c) + " is not closed after the cut: " + why);
+            throw Error(
+                "cut", "cell " + std::to_string(c) + " is not closed after the cut: " + why);
     }
 }
-
 
 geometry::Aabb triangle_box(const Triangle& t) {
     geometry::Aabb b;

@@ -22,6 +22,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 #include <system_error>
 
 #ifdef POLYCUT_HAVE_HYPRE
@@ -118,16 +119,17 @@ void initialize_locked(Runtime& r) {
             r.session_base = make_session_base();
         }
         int provided = 0;
-        if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS) {
+        const int init = MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
+        // Open MPI has read its parameters: processes we start (a server, a test's child)
+        // make their own session directory instead of sharing ours.
+        if (!r.session_base.empty())
+            unsetenv("OMPI_MCA_orte_tmpdir_base");
+        if (init != MPI_SUCCESS) {
             r.error = "MPI_Init_thread failed";
             remove_session_base(r);
             return;
         }
         r.mpi_ours = true;
-        // Open MPI has read its parameters: processes we start (a server, a test's child)
-        // make their own session directory instead of sharing ours.
-        if (!r.session_base.empty())
-            unsetenv("OMPI_MCA_orte_tmpdir_base");
     }
     // errors on our communicator come back as codes instead of aborting the process
     MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
