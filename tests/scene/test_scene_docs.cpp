@@ -105,6 +105,8 @@ std::map<std::string, Getter> getters() {
         = [](const Scene& s) { return num(s.solver.amg_aggressive_levels); };
     g["solver/amg/interpolation_max_elements"]
         = [](const Scene& s) { return num(s.solver.amg_interpolation_max_elements); };
+    g["solver/amg/max_coarse_size"]
+        = [](const Scene& s) { return num(s.solver.amg_max_coarse_size); };
     g["solver/amg/rigid_body_modes"]
         = [](const Scene& s) { return boolean(s.solver.amg_rigid_body_modes); };
     g["solver/amg/node_blocks"] = [](const Scene& s) { return boolean(s.solver.amg_node_blocks); };
@@ -309,6 +311,7 @@ TEST(SceneDocs, SceneDefaultsAreTheModuleDefaults) {
     const solve::AmgOptions amg;
     EXPECT_EQ(s.solver.amg_strong_threshold, amg.strong_threshold);
     EXPECT_EQ(s.solver.amg_interpolation_max_elements, amg.interpolation_max_elements);
+    EXPECT_EQ(s.solver.amg_max_coarse_size, amg.max_coarse_size);
     // the documented exception: a scene sets AMG up on a worker thread, a bare solver does not
     EXPECT_EQ(amg.background_solves, 0);
     EXPECT_EQ(s.solver.amg_background_solves, 8);

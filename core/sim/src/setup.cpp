@@ -209,6 +209,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.amg.strong_threshold = sv.amg_strong_threshold;
     o.solver.amg.aggressive_levels = sv.amg_aggressive_levels;
     o.solver.amg.interpolation_max_elements = sv.amg_interpolation_max_elements;
+    o.solver.amg.max_coarse_size = sv.amg_max_coarse_size;
     o.solver.amg.rigid_body_modes = sv.amg_rigid_body_modes;
     o.solver.amg.node_blocks = sv.amg_node_blocks;
     o.solver.amg.background_solves = sv.amg_background_solves;

@@ -332,6 +332,8 @@ struct AmgPreconditioner::Impl {
         return z.allFinite() ? SolveStatus::Ok : SolveStatus::NonFinite;
     }
 
+    int threaded_levels() const { return use_cycle ? cycle.threaded_levels() : 0; }
+
     int levels() const {
         if (use_cycle)
             return cycle_levels;
@@ -357,6 +359,7 @@ struct AmgPreconditioner::Impl {
     SolveStatus apply(const SparseMatrix&, const Vector&, Vector&) { return SolveStatus::NotReady; }
     bool remap(const RowRemap&) { return false; }
     int levels() const { return 0; }
+    int threaded_levels() const { return 0; }
 };
 
 #endif
@@ -388,6 +391,10 @@ long AmgPreconditioner::size() const {
 
 int AmgPreconditioner::levels() const {
     return m_impl->levels();
+}
+
+int AmgPreconditioner::threaded_levels() const {
+    return m_impl->threaded_levels();
 }
 
 void AmgPreconditioner::set_coordinates(const Vector& coordinates) {

@@ -37,6 +37,8 @@ public:
     long size() const;
     /// Number of levels of the current hierarchy (0 if none).
     int levels() const;
+    /// Levels the fused cycle smooths on several threads (0: serial or hypre's cycle).
+    int threaded_levels() const;
     /// Node coordinates for the rigid-body modes (AmgOptions::rigid_body_modes): per DOF the
     /// coordinate of its node along the DOF's component (n, interleaved like the DOFs) [m].
     /// Copied; used by the next setup() of a matrix of the same size. Empty: none.

@@ -555,6 +555,10 @@ int PcgSolver::amg_levels() const {
     return m_impl->amg.levels();
 }
 
+int PcgSolver::amg_threaded_levels() const {
+    return m_impl->amg.threaded_levels();
+}
+
 const std::string& PcgSolver::setup_error() const {
     return m_impl->setup_error;
 }

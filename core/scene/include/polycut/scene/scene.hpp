@@ -247,6 +247,8 @@ struct Solver {
     int amg_aggressive_levels = solve::AmgOptions {}.aggressive_levels;
     /// interpolation entries per row (0 = all)
     int amg_interpolation_max_elements = solve::AmgOptions {}.interpolation_max_elements;
+    /// unknowns of the coarsest level, solved directly
+    int amg_max_coarse_size = solve::AmgOptions {}.max_coarse_size;
     bool amg_rigid_body_modes = solve::AmgOptions {}.rigid_body_modes; ///< GM-2 rotations too
     bool amg_node_blocks = solve::AmgOptions {}.node_blocks; ///< 3x3 node-block smoothing
     /// solves between starting a requested set-up on a worker thread and installing it (0 = set

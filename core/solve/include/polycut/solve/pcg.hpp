@@ -146,6 +146,9 @@ public:
     int refactorizations() const;
     /// Amg: levels of the current hierarchy (0 before the first set-up).
     int amg_levels() const;
+    /// Amg: levels the cycle smooths on several threads (hybrid Gauss-Seidel: the finest, and
+    /// each coarse level of at least 20,000 entries); 0 on one thread.
+    int amg_threaded_levels() const;
     /// Why the preconditioner set-up last returned NotReady (e.g. hypre/MPI unusable), or "".
     const std::string& setup_error() const;
 
