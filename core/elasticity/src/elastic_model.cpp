@@ -56,18 +56,23 @@ void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const M
         }
     }
     if (Kvals) {
+        // K is symmetric (element_stiffness), so block (j, i) of R K R^T is block (i, j)
+        // transposed: each pair of blocks is rotated once.
+        const auto scatter_block = [&](int i, int j, const Mat3& B) {
+            const int* row = scatter + std::size_t(3 * i) * std::size_t(d) + std::size_t(3 * j);
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    if (const int s = row[std::size_t(a) * std::size_t(d) + std::size_t(b)]; s >= 0)
+                        Kvals[s] += B(a, b);
+        };
         for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
+            for (int i = 0; i <= j; ++i) {
                 const Mat3 B = corotated
                     ? Mat3(R * K.template block<3, 3>(3 * i, 3 * j) * R.transpose())
                     : Mat3(K.template block<3, 3>(3 * i, 3 * j));
-                for (int b = 0; b < 3; ++b)
-                    for (int a = 0; a < 3; ++a) {
-                        const int s = scatter[std::size_t(3 * i + a) * std::size_t(d)
-                            + std::size_t(3 * j + b)];
-                        if (s >= 0)
-                            Kvals[s] += B(a, b);
-                    }
+                scatter_block(i, j, B);
+                if (i != j)
+                    scatter_block(j, i, B.transpose());
             }
     }
 }
