@@ -144,6 +144,7 @@ private:
     const SparseMatrix* m_A = nullptr; ///< the matrix of the running apply()
     SparseMatrix m_compressed; ///< apply() on an uncompressed matrix: its compressed copy
     Eigen::LLT<Eigen::MatrixXd> m_coarsest;
+    bool m_coarsest_factored = false; ///< m_coarsest holds the coarsest coarse level's factor
     bool m_ready = false;
     int m_threads = 1;
     std::vector<int> m_block_rows; ///< T + 1 row bounds of the fine blocks
