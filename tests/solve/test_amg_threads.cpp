@@ -2,6 +2,7 @@
 // and on the large coarse levels keeps the cycle symmetric positive definite, converges like the
 // serial cycle, and repeats bit for bit for a given thread count.
 #include "amg_box.hpp"
+#include "grid_matrix.hpp"
 #include "polycut/solve/pcg.hpp"
 
 #include <algorithm>
