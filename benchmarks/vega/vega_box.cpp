@@ -57,8 +57,8 @@ Box kuhn_box(int n) {
     std::sort(b.fixed_dofs.begin(), b.fixed_dofs.end());
     // Block corners c0..c7 (c0 = (0,0,0), c6 = (1,1,1)); the six tets around the diagonal c0-c6
     // are the monotone lattice paths from c0 to c6.
-    const int paths[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
-        { 2, 1, 0 } };
+    const int paths[6][3]
+        = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
     for (int k = 0; k < n; ++k)
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i)
@@ -110,16 +110,16 @@ Run simulate(const Box& box, double tol, int warmup, int steps) {
     vega_pcg_tolerance = tol;
     std::vector<double> vertices = box.vertices;
     std::vector<int> tets = box.tets;
-    TetMesh mesh(int(vertices.size() / 3), vertices.data(), int(tets.size() / 4), tets.data(),
-        1e4, 0.45, 1000.0);
+    TetMesh mesh(int(vertices.size() / 3), vertices.data(), int(tets.size() / 4), tets.data(), 1e4,
+        0.45, 1000.0);
     CorotationalLinearFEM fem(&mesh);
     CorotationalLinearFEMForceModel model(&fem, 1);
     SparseMatrix* mass = nullptr;
     GenerateMassMatrix::computeMassMatrix(&mesh, &mass, true);
     const int r = 3 * mesh.getNumVertices();
     std::vector<int> fixed = box.fixed_dofs;
-    ImplicitBackwardEulerSparse integrator(r, 0.01, mass, &model, int(fixed.size()), fixed.data(),
-        0.0, 0.01, 1, 1e-6, 1);
+    ImplicitBackwardEulerSparse integrator(
+        r, 0.01, mass, &model, int(fixed.size()), fixed.data(), 0.0, 0.01, 1, 1e-6, 1);
     std::vector<double> g(r, 0.0), f(r, 0.0);
     for (int i = 0; i < r; i += 3)
         g[i + 2] = -9.81;
