@@ -322,7 +322,10 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
     Level& next = m_levels[l];
     const SortedCsr& P = next.P;
     double* bc = next.b.data();
-    if (hybrid) {
+    // (the finest level's P^T only once the interpolation has stayed for a solve, see
+    // m_solves_since_remap)
+    const bool transposed = next.PT.rows == next.A.rows || l > 0 || m_solves_since_remap >= 2;
+    if (hybrid && transposed) {
         if (next.PT.rows != next.A.rows)
             transpose(P, next.A.rows, next.PT);
         const SortedCsr& Q = next.PT;
@@ -493,7 +496,8 @@ bool AmgCycle::remap(const RowRemap& m) {
         Q.ptr[r + 1] = int(Q.column.size());
     }
     P = std::move(Q);
-    m_levels.front().PT.rows = -1; // transposed again when next used
+    m_levels.front().PT.rows = -1; // transposed again, from the second solve on
+    m_solves_since_remap = 0;
     m_ready = false; // apply() runs finish() on the new matrix
     m_fine_rows = -1;
     m_block_rows.clear();

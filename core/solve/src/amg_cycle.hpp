@@ -82,7 +82,10 @@ public:
     bool apply(const SparseMatrix& A, const Vector& r, Vector& z);
     /// The values of the matrix passed to the next apply() differ from the last one's (a new
     /// solve): the node-block copy is refreshed then. The pattern is checked by apply() itself.
-    void matrix_changed() { m_blocks_stale = true; }
+    void matrix_changed() {
+        m_blocks_stale = true;
+        ++m_solves_since_remap;
+    }
     /// Smooth the finest level by node blocks when its matrix allows (see the file comment);
     /// takes effect at the next finish().
     void set_node_blocks(bool on) { m_node_blocks_wanted = on; }
@@ -145,6 +148,10 @@ private:
     SparseMatrix m_compressed; ///< apply() on an uncompressed matrix: its compressed copy
     Eigen::LLT<Eigen::MatrixXd> m_coarsest;
     bool m_coarsest_factored = false; ///< m_coarsest holds the coarsest coarse level's factor
+    /// Solves begun since the last remap(): the finest level's P^T is made again only from the
+    /// second one on. While a blade cuts, every tick remaps, and a transpose per tick (~1.2 ms
+    /// on the split organ) cost more than the serial restriction of that tick's few iterations.
+    long m_solves_since_remap = 2;
     bool m_ready = false;
     int m_threads = 1;
     std::vector<int> m_block_rows; ///< T + 1 row bounds of the fine blocks
