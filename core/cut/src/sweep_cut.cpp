@@ -77,6 +77,16 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
     const Index ncells = m.num_cells();
     for (Index c = 0; c < ncells; ++c) {
         geometry::Aabb box = ed.bounds(c);
+        // A cell's thickness 6 V / A is at most twice its box's diagonal (V = 1/3 sum_f A_f
+        // (x_f - o).n_f with o in the box), so this box, grown by that bound, is a superset
+        // test, and the thickness (a pass over the cell's faces) is computed only for the cells
+        // near the triangle. Computed for every cell, it cost the first triangle of a stroke
+        // on the 5k organ ~16 ms (its splitting 26.8 -> 10.3 ms; later triangles ~0.6 ms).
+        const double reach = 2.0 * ed.opt.snap * (box.hi - box.lo).norm();
+        if (tbox.lo.x() > box.hi.x() + reach || tbox.hi.x() < box.lo.x() - reach
+            || tbox.lo.y() > box.hi.y() + reach || tbox.hi.y() < box.lo.y() - reach
+            || tbox.lo.z() > box.hi.z() + reach || tbox.hi.z() < box.lo.z() - reach)
+            continue;
         const double margin = ed.opt.snap * ed.thickness(c);
         box.lo.array() -= margin;
         box.hi.array() += margin;
