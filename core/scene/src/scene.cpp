@@ -307,8 +307,7 @@ Solver parse_solver(const json& j, const std::string& ptr) {
             = int(a.integer("aggressive_levels", s.amg_aggressive_levels, 0, 10));
         s.amg_interpolation_max_elements = int(
             a.integer("interpolation_max_elements", s.amg_interpolation_max_elements, 0, 100));
-        s.amg_max_coarse_size
-            = int(a.integer("max_coarse_size", s.amg_max_coarse_size, 1, 4000));
+        s.amg_max_coarse_size = int(a.integer("max_coarse_size", s.amg_max_coarse_size, 1, 4000));
         s.amg_rigid_body_modes = a.boolean("rigid_body_modes", s.amg_rigid_body_modes);
         s.amg_node_blocks = a.boolean("node_blocks", s.amg_node_blocks);
         s.amg_background_solves
