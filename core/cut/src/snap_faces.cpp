@@ -4,7 +4,6 @@
 #include "checks.hpp"
 #include "snap_model.hpp"
 
-#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -391,52 +390,49 @@ std::vector<Index> rebuild_faces(Model& md) {
     for (auto& k : pend)
         for (Index& n : k)
             n = at(nmap, n);
-    // Faces.
+    // Faces. The old faces' node vectors are reused: a fresh allocation per face cost more
+    // than the matching.
+    std::vector<mesh::Face> old = std::move(m.faces);
     m.faces.clear();
-    std::multimap<std::uint64_t, Index> byhash;
+    m.faces.reserve(old.size() + 64);
+    std::size_t reused = 0;
+    auto add_face = [&](const std::array<Index, 3>& loop, Index owner, mesh::FaceTag tag) {
+        mesh::Face f;
+        if (reused < old.size())
+            f.nodes = std::move(old[reused++].nodes);
+        f.nodes.assign(loop.begin(), loop.end());
+        f.owner = owner;
+        f.tag = tag;
+        at(m.cells, owner).faces.push_back(m.num_faces());
+        m.faces.push_back(std::move(f));
+    };
+    // Interior faces waiting for their other tet, by node set.
+    std::unordered_map<Key, Index, KeyHash> open;
+    open.reserve(2 * m.cells.size());
     for (Index c = 0; c < m.num_cells(); ++c) {
         auto& cell = at(m.cells, c);
         cell.faces.clear();
         for (std::size_t k = 0; k < 4; ++k) {
             const auto& lf = mesh::kTetFaces[std::size_t(kFaceOpposite[k])];
-            std::vector<Index> loop { cell.nodes[std::size_t(lf[0])],
+            const std::array<Index, 3> loop { cell.nodes[std::size_t(lf[0])],
                 cell.nodes[std::size_t(lf[1])], cell.nodes[std::size_t(lf[2])] };
-            std::array<Index, 3> key { loop[0], loop[1], loop[2] };
+            std::array<Index, 3> key = loop;
             std::sort(key.begin(), key.end());
             const std::uint8_t l = at(md.labels, c)[k];
-            if (l == kInterior) {
-                const std::uint64_t h = KeyHash {}(key);
-                Index match = kNone;
-                for (auto [it, end] = byhash.equal_range(h); it != end; ++it) {
-                    auto k2 = at(m.faces, it->second).nodes;
-                    std::sort(k2.begin(), k2.end());
-                    if (std::equal(k2.begin(), k2.end(), key.begin())) {
-                        match = it->second;
-                        byhash.erase(it);
-                        break;
-                    }
-                }
-                if (match != kNone) {
-                    at(m.faces, match).neighbour = c;
-                    at(m.faces, match).tag = mesh::FaceTag::Interior;
-                    cell.faces.push_back(match);
-                    continue;
-                }
-                mesh::Face f;
-                f.nodes = std::move(loop);
-                f.owner = c;
-                f.tag = mesh::FaceTag::Cut; // becomes Interior when matched
-                byhash.emplace(h, m.num_faces());
-                cell.faces.push_back(m.num_faces());
-                m.faces.push_back(std::move(f));
-            } else {
-                mesh::Face f;
-                f.nodes = std::move(loop);
-                f.owner = c;
-                f.tag = mesh::FaceTag(l);
-                cell.faces.push_back(m.num_faces());
-                m.faces.push_back(std::move(f));
+            if (l != kInterior) {
+                add_face(loop, c, mesh::FaceTag(l));
+                continue;
             }
+            if (auto it = open.find(key); it != open.end()) {
+                const Index match = it->second;
+                open.erase(it);
+                at(m.faces, match).neighbour = c;
+                at(m.faces, match).tag = mesh::FaceTag::Interior;
+                cell.faces.push_back(match);
+                continue;
+            }
+            open.emplace(key, m.num_faces());
+            add_face(loop, c, mesh::FaceTag::Cut); // becomes Interior when matched
         }
     }
     s.node_cells = m.node_cells();
