@@ -23,9 +23,18 @@ void Model::load_label(Index c) {
 }
 
 void Model::load_labels() {
-    labels.resize(s.m.cells.size());
-    for (Index c = 0; c < s.m.num_cells(); ++c)
-        load_label(c);
+    // What load_label() gives every tet, from one pass over the face table: only boundary faces
+    // (each of its owner alone) carry a label other than kInterior. A pass per tet over its faces
+    // chased a pointer per face (~9 ms on a 26k-tet organ, at every degeneracy removal).
+    labels.assign(s.m.cells.size(), Labels { kInterior, kInterior, kInterior, kInterior });
+    for (const mesh::Face& face : s.m.faces) {
+        if (!face.boundary() || face.owner == kNone)
+            continue;
+        const auto& nodes = at(s.m.cells, face.owner).nodes;
+        for (std::size_t k = 0; k < 4; ++k)
+            if (std::find(face.nodes.begin(), face.nodes.end(), nodes[k]) == face.nodes.end())
+                at(labels, face.owner)[k] = std::uint8_t(face.tag);
+    }
 }
 
 void Model::load_labels(const std::vector<Index>& cells) {
