@@ -214,20 +214,34 @@ bool Integrator::step_implicit(State& s, StepReport& report, double h) {
     const double alpha = m_model->material().rayleigh_mass;
     const double beta = m_model->material().rayleigh_stiffness;
     external_reduced();
-    // K_R and A are reused for stiffness_every - 1 steps (options.hpp); forces are always new
-    const bool new_stiffness = m_stiffness_age < 0
-        || m_stiffness_age + 1 >= std::max(m_options.stiffness_every, 1)
-        || m_stiffness_cells != m_model->cell_version();
+    // K_R and A are reused for stiffness_every - 1 steps (options.hpp); forces are always new.
+    // A model that can re-linearizes a 1/stiffness_every share of its cells at every step
+    // instead (Model::assemble_in_turns): the same lag, without a step that re-assembles all.
+    const int period = std::max(m_options.stiffness_every, 1);
+    const bool same_cells = m_stiffness_cells == m_model->cell_version();
+    bool turned = false;
+    if (period > 1 && m_stiffness_age >= 0 && same_cells
+        && m_options.force_mode == ForceMode::Corotated) {
+        const Stopwatch sw;
+        turned = m_model->assemble_in_turns(s.x, m_K, m_fint, m_turn, period);
+        if (turned) {
+            m_model->reduce(m_fint, m_fint_r);
+            report.assembly_ms += sw.ms();
+            m_turn = (m_turn + 1) % period;
+        }
+    }
+    const bool new_stiffness
+        = !turned && (m_stiffness_age < 0 || m_stiffness_age + 1 >= period || !same_cells);
     // prepare() assembled at these positions already (K, f_int): take that
     const bool prepared = new_stiffness && m_prepared_x.rows() == s.x.rows()
         && m_prepared_cells == m_model->cell_version() && m_prepared_x == s.x;
     m_prepared_x.resize(0, 3);
-    if (!prepared)
+    if (!prepared && !turned)
         assemble(s.x, m_options.force_mode, new_stiffness, report);
     gather_free(s.v, m_v_r);
     const VecX& M = m_model->reduced_mass();
     const double cK = h * beta + h * h, cM = 1.0 + h * alpha;
-    if (new_stiffness) {
+    if (new_stiffness || turned) {
         // A = cK K + cM M and K v in one pass over K
         m_shift = cM * M;
         solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());

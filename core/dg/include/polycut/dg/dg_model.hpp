@@ -85,6 +85,9 @@ public:
     /// stiffness there (Corotated: sum R K R^T, dR/dx neglected; same pattern as stiffness()).
     /// Corotated mode updates the cached cell rotations.
     void assemble(const MatX3& x, Warp warp, SparseMatrix* K, VecX* f_int);
+    /// elasticity::Model::assemble_in_turns: each cell's terms in K carry the rotation they
+    /// were last scattered with; a turn scatters the difference of its cells' warped blocks.
+    bool assemble_in_turns(const MatX3& x, SparseMatrix& K, VecX& f_int, int phase, int period) override;
     /// Rotation of a cell from the last corotated assembly (identity before).
     const Mat3& rotation(Index cell) const { return m_rotation[std::size_t(cell)]; }
     /// Rotation of the affine part of cell c's map at x (polar decomposition, 003 sec. 7).
@@ -198,6 +201,13 @@ private:
     MatX3 m_rest;
     VecX m_mass;
     std::vector<Mat3> m_rotation;
+    /// Per cell, the rotation its terms in the caller's K were warped with (assemble_in_turns);
+    /// empty until a full assembly of K.
+    std::vector<Mat3> m_k_rotation;
+    /// Adds cell c's elastic forces at x (its warped volume and face-consistency terms, with
+    /// m_rotation) to f_int.
+    void add_cell_forces(const MatX3& x, Index c, VecX& f_int) const;
+    mutable VecX m_uc, m_ud, m_fc, m_fd; ///< scratch of add_cell_forces()
     Index m_cells_integrated = 0, m_faces_integrated = 0;
 };
 

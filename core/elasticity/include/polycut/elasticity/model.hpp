@@ -45,6 +45,16 @@ public:
     /// resized; may be null) the elastic forces [N] at x. Corotated mode updates the cached
     /// cell rotations.
     virtual void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) = 0;
+    /// Corotated stiffness re-linearized in turns (IntegratorOptions::stiffness_every = period):
+    /// in K, assembled earlier by a full corotated assemble() and turned since, the terms of the
+    /// cells c with c % period == phase move to the rotations at x, the other cells' terms stay;
+    /// f_int is assembled in full at x. The same lag as re-assembling all of K every period
+    /// steps, spread over the steps instead of spiking one of them. Returns false, changing
+    /// nothing, where the model cannot (the caller then re-assembles K every period steps).
+    virtual bool assemble_in_turns(const MatX3& /*x*/, SparseMatrix& /*K*/, VecX& /*f_int*/,
+        int /*phase*/, int /*period*/) {
+        return false;
+    }
     /// Elastic energy [J] at x, consistent with the forces of `mode`.
     virtual double elastic_energy(const MatX3& x, ForceMode mode) const = 0;
     /// Per cell, the squared stretch at x (1 at rest and under rigid motion; +inf for

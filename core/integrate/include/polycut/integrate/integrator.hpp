@@ -146,6 +146,7 @@ private:
     /// (-1: none valid for the current pattern)
     int m_stiffness_age = -1;
     std::uint64_t m_stiffness_cells = 0; ///< model cell_version() of the assembled K_R
+    int m_turn = 0; ///< the cells' turn of Model::assemble_in_turns (stiffness_every > 1)
     VecX
         m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
     State m_backup;
