@@ -8,6 +8,8 @@
 #include "polycut/mesh/builders.hpp"
 #include "polycut/solve/cholmod_solver.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <gtest/gtest.h>
 
 using namespace polycut;
@@ -138,6 +140,21 @@ TEST(DgCorotation, StiffnessInTurnsEqualsAFullAssemblyOnceEveryCellHadItsTurn) {
             }
         }
         EXPECT_LT((K - SparseMatrix(K.transpose())).norm(), 1e-13 * K.norm());
+        // Round-off over many turns: 1,000 turns through changing twists, then one round at a
+        // last state, against a full assembly there.
+        for (int step = 0; step < 1000; ++step)
+            ASSERT_TRUE(model.assemble_in_turns(
+                twisted(0.7 + 0.5 * std::sin(0.01 * step)), K, f, step % kPeriod, kPeriod));
+        const MatX3 x2 = twisted(0.4);
+        for (int phase = 0; phase < kPeriod; ++phase)
+            ASSERT_TRUE(model.assemble_in_turns(x2, K, f, phase, kPeriod));
+        SparseMatrix K2 = model.make_matrix();
+        VecX f2;
+        DgModel fresh = model;
+        fresh.assemble(x2, Warp::Corotated, &K2, &f2);
+        const double drift = (K - K2).norm() / K2.norm();
+        std::printf("p=%d: K after 1,000 turns against a full assembly: %.2e relative\n", p, drift);
+        EXPECT_LT(drift, 1e-12) << "p=" << p;
         // A K of another pattern is refused, unchanged.
         SparseMatrix other(3, 3);
         EXPECT_FALSE(model.assemble_in_turns(x1, other, f, 0, kPeriod));

@@ -87,7 +87,8 @@ public:
     void assemble(const MatX3& x, Warp warp, SparseMatrix* K, VecX* f_int);
     /// elasticity::Model::assemble_in_turns: each cell's terms in K carry the rotation they
     /// were last scattered with; a turn scatters the difference of its cells' warped blocks.
-    bool assemble_in_turns(const MatX3& x, SparseMatrix& K, VecX& f_int, int phase, int period) override;
+    bool assemble_in_turns(
+        const MatX3& x, SparseMatrix& K, VecX& f_int, int phase, int period) override;
     /// Rotation of a cell from the last corotated assembly (identity before).
     const Mat3& rotation(Index cell) const { return m_rotation[std::size_t(cell)]; }
     /// Rotation of the affine part of cell c's map at x (polar decomposition, 003 sec. 7).

@@ -51,8 +51,8 @@ public:
     /// f_int is assembled in full at x. The same lag as re-assembling all of K every period
     /// steps, spread over the steps instead of spiking one of them. Returns false, changing
     /// nothing, where the model cannot (the caller then re-assembles K every period steps).
-    virtual bool assemble_in_turns(const MatX3& /*x*/, SparseMatrix& /*K*/, VecX& /*f_int*/,
-        int /*phase*/, int /*period*/) {
+    virtual bool assemble_in_turns(
+        const MatX3& /*x*/, SparseMatrix& /*K*/, VecX& /*f_int*/, int /*phase*/, int /*period*/) {
         return false;
     }
     /// Elastic energy [J] at x, consistent with the forces of `mode`.
