@@ -248,6 +248,42 @@ TEST_P(Pipeline, UndoGivesBackTheMeshBeforeTheLastCallExactly) {
     }
 }
 
+TEST_P(Pipeline, CountsTheInvertedTetsAroundTheBlade) {
+    // A body folded under a load has tets turned inside out; there the world-to-rest map is not
+    // one-to-one and the cut can only follow the fold approximately (docs/scenes.md). The call
+    // counts them, for the simulation's warning; an unfolded body has none.
+    const bool snap = GetParam();
+    const std::vector<Triangle> sweep = stroke(4);
+    for (bool fold : { false, true }) {
+        mesh::Mesh m = block(true, 6); // tets for both cutters
+        const mesh::Mesh uncut = m;
+        std::vector<Vec3> positions = m.rest;
+        // an interior node near the blade pushed 2.4 cells down, through the tets below it
+        Index pushed = 0;
+        for (Index n = 0; n < m.num_nodes(); ++n)
+            if ((m.rest[std::size_t(n)] - Vec3(0.5, 0.5, 2.0 / 3)).norm()
+                < (m.rest[std::size_t(pushed)] - Vec3(0.5, 0.5, 2.0 / 3)).norm())
+                pushed = n;
+        if (fold)
+            positions[std::size_t(pushed)] += Vec3(0, 0, -0.4);
+        Index expected = 0;
+        for (const mesh::Cell& c : m.cells) {
+            const auto x = [&](int k) { return positions[std::size_t(c.nodes[std::size_t(k)])]; };
+            if ((x(1) - x(0)).cross(x(2) - x(0)).dot(x(3) - x(0)) < 0)
+                ++expected;
+        }
+        CutPipeline p(m, uncut, options(snap));
+        const CutResult r = p.cut(sweep, positions);
+        if (!fold) {
+            EXPECT_EQ(r.inverted_cells, 0u);
+            continue;
+        }
+        ASSERT_GT(expected, 0);
+        EXPECT_GT(r.inverted_cells, 0u);
+        EXPECT_LE(r.inverted_cells, std::size_t(expected)); // only those around the sweep
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cutters, Pipeline, ::testing::Values(false, true),
     [](const ::testing::TestParamInfo<bool>& param) {
         return param.param ? std::string("FaceSnapping") : std::string("CellSplitting");

@@ -196,6 +196,24 @@ struct CutPipeline::Impl {
         return true;
     }
 
+    /// Tets (of `near`) whose world positions have turned them inside out, for the call's
+    /// CutResult::inverted_cells. Polyhedral cells are not checked (an affine fit per cell would
+    /// cost more than the mapping).
+    std::vector<Index> inverted;
+    void note_inverted(const std::vector<Index>& near, std::span<const Vec3> positions) {
+        for (Index c : near) {
+            const auto& n = mesh.cells[std::size_t(c)].nodes;
+            if (n.size() != 4)
+                continue;
+            const auto x = [&](std::size_t k) { return positions[std::size_t(n[k])]; };
+            const auto X = [&](std::size_t k) { return mesh.rest[std::size_t(n[k])]; };
+            const double world = (x(1) - x(0)).cross(x(2) - x(0)).dot(x(3) - x(0));
+            const double rest = (X(1) - X(0)).cross(X(2) - X(0)).dot(X(3) - X(0));
+            if (world * rest < 0)
+                inverted.push_back(c);
+        }
+    }
+
     /// World to rest (DESIGN.md sec. 3): each triangle through ONE least-squares affine fit of
     /// the nodes of the cells whose deformed bounds it touches. WorldToRest::map_triangle maps
     /// each corner through its own cell instead; for sweeps whose corners lie far outside the
@@ -247,6 +265,7 @@ struct CutPipeline::Impl {
                 }
                 const std::vector<Index> near = world_grid->candidates(triangle_box(tri));
                 mapped = true;
+                note_inverted(near, positions);
                 std::set<Index> nodes;
                 for (Index c : near)
                     nodes.insert(mesh.cells[std::size_t(c)].nodes.begin(),
@@ -394,7 +413,11 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
     const std::span<const Triangle> now
         = max_triangles > 0 && world.size() > max_triangles ? world.first(max_triangles) : world;
     std::vector<std::size_t> source;
+    s.inverted.clear();
     const std::vector<Triangle> rest = s.map(now, positions, source, result);
+    std::sort(s.inverted.begin(), s.inverted.end());
+    result.inverted_cells
+        = std::size_t(std::unique(s.inverted.begin(), s.inverted.end()) - s.inverted.begin());
     result.consumed = now.size();
     if (now.size() < world.size()) {
         result.status = CutStatus::Deferred;

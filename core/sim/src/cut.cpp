@@ -37,6 +37,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
         std::size_t(std::max(0, max_triangles)));
     summary.triangles_skipped = int(result.skipped);
     summary.triangles_deferred = int(result.deferred);
+    summary.inverted_cells = int(result.inverted_cells);
+    s.cut_inverted = std::max(s.cut_inverted, result.inverted_cells);
     if (result.status == cut::CutStatus::Rejected) {
         summary.status = CutSummary::Status::Rejected;
         summary.rejected_triangle = int(result.rejected_triangle);

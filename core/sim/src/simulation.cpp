@@ -280,6 +280,14 @@ StepReport Simulation::step() {
             r.warnings.push_back(std::string("cut could not be undone: ") + e.what());
         }
     }
+    if (s.cut_inverted > 0) {
+        // Said after the step's own warnings (a warning event shows the first).
+        r.warnings.push_back("cut through folded tissue: " + std::to_string(s.cut_inverted)
+            + (s.cut_inverted == 1 ? " inverted cell" : " inverted cells")
+            + " around the blade; there the world-to-rest map is not one-to-one and the cut "
+              "follows the fold only approximately");
+        s.cut_inverted = 0;
+    }
     if (s.cut_undo)
         s.spare = std::move(s.cut_undo); // its buffers serve the next cut's undo copy
     if (s.cutting && !r.rolled_back)

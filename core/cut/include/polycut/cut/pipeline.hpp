@@ -56,6 +56,10 @@ struct CutResult {
     /// Rest area of the cut triangles inside the uncut tissue [m^2]; for Failed, of the
     /// triangles the failed call was given.
     double swept_area = 0;
+    /// Tets around the mapped triangles whose deformed volume is negative (the body folded
+    /// there: the world-to-rest map is not one-to-one, so the cut follows the fold only
+    /// approximately; docs/scenes.md "Completeness"). 0 for a body that did not invert.
+    std::size_t inverted_cells = 0;
     /// Rejected: index of the offending input triangle, and its corner (-1 for the whole
     /// triangle); the server turns them into a JSON pointer.
     std::ptrdiff_t rejected_triangle = -1;

@@ -89,6 +89,9 @@ struct CutSummary {
     int triangles_skipped = 0;
     /// Rest-space area of the applied triangles inside the uncut tissue [m^2].
     double swept_area = 0;
+    /// Inverted tets around the sweep (cut::CutResult::inverted_cells): the body folded under
+    /// the blade. The next step's report warns about it.
+    int inverted_cells = 0;
     int cells_split = 0;
     int nodes_added = 0;
     int cells_before = 0, cells_after = 0;
