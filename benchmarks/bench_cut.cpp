@@ -5,11 +5,14 @@
 // add scheduling noise to.
 //
 //   bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N] [--settle S] [--depth D]
+//             [--strokes K] [--offset Y] [--after A]
 //
 // The stroke: a blade from 2 cm above the tissue's top down to D x its height (default 0.4),
-// in the plane y = centre + 2.5 mm (between grid planes on the shipped boxes), moving along x
-// over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps of
-// settling (default 10). One JSON object per scene on stdout:
+// in the plane y = centre + Y (default 2.5 mm: between grid planes on the shipped boxes), moving
+// along x over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps
+// of settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
+// deformed body (default 1); then A ticks of stepping without a cut (default 0): the hand-over
+// of the set-up the end of the stroke asks for. One JSON object per scene on stdout:
 //   nodes, cells (before/after), cutter
 //   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)
 //   cut_cpu_ms, tick_cpu_ms                        the same in CPU time of the process (all
@@ -19,7 +22,9 @@
 //   ticks_over_16_7, ticks_over_50                 ticks above the 60 Hz budget / the 50 ms bound
 //   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
 //   undo_reasons                                   the reasons of the first failed or undone cuts
-// With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (CPU ms, cells, its).
+//   after {tick_ms, its}                           with --after: the ticks after the strokes
+// With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (wall ms of the tick, its
+// cut, assembly and solves; CPU ms; cells; PCG iterations).
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/scene/scene.hpp"
@@ -47,6 +52,9 @@ struct Args {
     int ticks = 180;
     int settle = 10;
     double depth = 0.4;
+    int strokes = 1; // the same stroke again, in world space, after the first (a re-cut)
+    double offset = 0.0025; // the blade's plane: y = centre + offset [m]
+    int after = 0; // ticks stepped after the last stroke
 };
 
 /// CPU time of the process, all threads [ms].
@@ -90,7 +98,7 @@ json run(const std::string& path, const Args& a) {
     }
     const Vec3 c = 0.5 * (lo + hi), size = hi - lo;
     const double top = hi.z() + 0.02, bottom = hi.z() - a.depth * size.z();
-    const double y = c.y() + 0.0025;
+    const double y = c.y() + a.offset;
     auto blade = [&](int k) {
         const double x = lo.x() + size.x() * (0.2 + 0.6 * double(k) / double(a.ticks - 1));
         return std::pair<Vec3, Vec3> { Vec3(x, y, top), Vec3(x, y, bottom) };
@@ -101,6 +109,7 @@ json run(const std::string& path, const Args& a) {
     const long cells_before = s.cell_count();
     auto last = blade(0);
     bool held = false;
+    std::vector<Vec3> before = s.positions(); // for the trace
     // Triangles past a tick's cut budget wait for the next tick, as the server carries them.
     std::vector<std::array<Vec3, 3>> waiting;
     int deferred = 0;
@@ -121,7 +130,12 @@ json run(const std::string& path, const Args& a) {
         last = q;
         held = false;
     };
-    for (int k = 1; k <= a.ticks; ++k) {
+    for (int t = 1; t <= a.ticks * a.strokes; ++t) {
+        const int k = (t - 1) % a.ticks + 1;
+        if (k == 1 && t > 1) { // the next stroke starts where the first did
+            last = blade(0);
+            held = false;
+        }
         Stopwatch tick;
         const double cpu0 = cpu_ms();
         if (k < a.ticks) {
@@ -150,9 +164,29 @@ json run(const std::string& path, const Args& a) {
         const sim::StepReport r = s.step();
         const double total = tick.ms();
         cut_cpu.push_back(cpu_cut);
-        if (std::getenv("BENCH_CUT_TRACE"))
-            std::fprintf(stderr, "tick %d cut_cpu %.1f tick_cpu %.1f cells %ld its %d\n", k,
-                cpu_cut, cpu_ms() - cpu0, long(s.cell_count()), r.solver_iterations);
+        if (std::getenv("BENCH_CUT_TRACE")) {
+            // How far the body reaches from its centre and how far a node moved in the step
+            // [m]: a slowly growing instability shows here long before any guard trips.
+            double reach = 0, moved = 0;
+            const auto& p = s.positions();
+            for (std::size_t i = 0; i < p.size(); ++i) {
+                reach = std::max(reach, (p[i] - c).norm());
+                if (i < before.size())
+                    moved = std::max(moved, (p[i] - before[i]).norm());
+            }
+            before = p;
+            std::fprintf(stderr,
+                "tick %d wall %.1f cut %.1f asm %.1f solve %.1f cut_cpu %.1f tick_cpu %.1f cells "
+                "%ld its %d "
+                "reach %.4g moved %.3g%s\n",
+                t, tick.ms(), cut, r.assembly_ms, r.solve_ms, cpu_cut, cpu_ms() - cpu0,
+                long(s.cell_count()), r.solver_iterations, reach, moved,
+                r.cut_undone        ? " undone"
+                    : r.rolled_back ? " rolled back"
+                                    : "");
+            for (const std::string& w : r.warnings)
+                std::fprintf(stderr, "  %s\n", w.c_str());
+        }
         tick_cpu.push_back(cpu_ms() - cpu0);
         undone += r.cut_undone ? 1 : 0;
         if (r.cut_undone && reasons.size() < 3 && !r.warnings.empty())
@@ -173,16 +207,33 @@ json run(const std::string& path, const Args& a) {
         failed += s.end_stroke().ok() ? 0 : 1;
         undone += s.step().cut_undone ? 1 : 0;
     }
+    std::vector<double> after_ms, after_its;
+    for (int k = 1; k <= a.after; ++k) {
+        Stopwatch tick;
+        const sim::StepReport r = s.step();
+        after_ms.push_back(tick.ms());
+        after_its.push_back(double(r.solver_iterations));
+        undone += r.cut_undone ? 1 : 0;
+        if (std::getenv("BENCH_CUT_TRACE"))
+            std::fprintf(stderr, "after %d wall %.1f asm %.1f solve %.1f its %d\n", k,
+                after_ms.back(), r.assembly_ms, r.solve_ms, r.solver_iterations);
+    }
     const sim::MeshStats st = s.mesh_stats();
+    const sim::ModelStats ms = s.model_stats();
     return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
-        { "cells_before", cells_before }, { "cells_after", s.cell_count() }, { "ticks", a.ticks },
-        { "cut_ms", percentiles(cut_ms) }, { "step_ms", percentiles(step_ms) },
-        { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) },
-        { "tick_ms", percentiles(tick_ms) }, { "cut_cpu_ms", percentiles(cut_cpu) },
-        { "tick_cpu_ms", percentiles(tick_cpu) }, { "ticks_over_16_7", over_budget },
-        { "ticks_over_50", over_50 }, { "completeness", st.completeness() },
-        { "failed_cuts", failed }, { "deferred_triangles", deferred }, { "undone", undone },
-        { "undo_reasons", reasons } };
+        { "free_dofs", ms.free_dofs }, { "nonzeros", ms.nonzeros },
+        { "cells_before", cells_before }, { "cells_after", s.cell_count() },
+        { "ticks", a.ticks * a.strokes }, { "cut_ms", percentiles(cut_ms) },
+        { "step_ms", percentiles(step_ms) }, { "solve_ms", percentiles(solve_ms) },
+        { "its", percentiles(its) }, { "tick_ms", percentiles(tick_ms) },
+        { "cut_cpu_ms", percentiles(cut_cpu) }, { "tick_cpu_ms", percentiles(tick_cpu) },
+        { "ticks_over_16_7", over_budget }, { "ticks_over_50", over_50 },
+        { "completeness", st.completeness() }, { "failed_cuts", failed },
+        { "deferred_triangles", deferred }, { "undone", undone }, { "undo_reasons", reasons },
+        { "after",
+            a.after > 0
+                ? json { { "tick_ms", percentiles(after_ms) }, { "its", percentiles(after_its) } }
+                : json() } };
 }
 
 } // namespace
@@ -204,12 +255,18 @@ int main(int argc, char** argv) {
             a.settle = std::stoi(value());
         else if (arg == "--depth")
             a.depth = std::stod(value());
+        else if (arg == "--offset")
+            a.offset = std::stod(value());
+        else if (arg == "--strokes")
+            a.strokes = std::stoi(value());
+        else if (arg == "--after")
+            a.after = std::stoi(value());
         else
             a.scenes.push_back(arg);
     }
     if (a.scenes.empty() || a.ticks < 2) {
         std::cerr << "usage: bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N >= 2] "
-                     "[--settle S] [--depth D]\n";
+                     "[--settle S] [--depth D] [--strokes K] [--offset Y] [--after A]\n";
         return 2;
     }
     try {

@@ -104,6 +104,38 @@ def with_cutter(scene, cutter):
     return s
 
 
+def far_pieces(snapshot, centre, bound):
+    """The surface's connected pieces (triangles sharing vertices) with a vertex beyond `bound`
+    from `centre`: how many triangles, how far, and whether any is tagged cut (2). A small
+    piece far away is a fragment the cut set free (falling), not an exploded model."""
+    P = snapshot["positions"]
+    T = np.asarray(snapshot["triangles"], dtype=np.int64).reshape(-1, 3)
+    tags = np.asarray(snapshot.get("tags", np.ones(len(T))), dtype=np.int64)
+    parent = list(range(len(P)))
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+    for a, b, c in T:
+        for u, v in ((a, b), (b, c)):
+            ru, rv = find(int(u)), find(int(v))
+            if ru != rv:
+                parent[ru] = rv
+    roots = np.array([find(int(t[0])) for t in T]) if len(T) else np.zeros(0, dtype=np.int64)
+    dist = np.linalg.norm(P - centre, axis=1)
+    out = []
+    for r in np.unique(roots):
+        sel = roots == r
+        verts = np.unique(T[sel].ravel())
+        d = float(np.max(dist[verts]))
+        if d > bound:
+            out.append({"triangles": int(sel.sum()), "vertices": int(len(verts)),
+                        "max_dist_m": round(d, 3), "has_cut_faces": bool((tags[sel] == 2).any())})
+    return {"pieces": int(len(np.unique(roots))), "far": out[:10]}
+
+
 def organ_scene(base, cell_size):
     """The organ of issue 12: the blob (about 10 x 6.4 x 4.4 cm) meshed by CGAL, standing on its
     bottom 6 mm (fixed), under gravity, AMG-preconditioned PCG."""
@@ -463,8 +495,11 @@ class Runner:
             scene_path = os.path.join(self.logdir, tag + ".scene.json")
             with open(scene_path, "w") as f:
                 json.dump(v.scene, f, indent=1)
+        # The server's command log beside its stderr: `polycut-server --replay` reproduces a case.
+        commands_path = os.path.join(self.logdir, tag + ".commands.log")
         srv = live.ServerProcess(args.server_bin, ["--scene", scene_path, "--rate",
-                                                   str(args.rate), "--paused"],
+                                                   str(args.rate), "--paused",
+                                                   "--record-commands", commands_path],
                                  stderr_path=stderr_path, start_timeout=args.start_timeout)
         ctx = zmq.Context()
         reader = rpc = rest = frame = case = surf = final = stats = None
@@ -703,6 +738,7 @@ class Runner:
                 np.max(np.linalg.norm(P - frame.centre, axis=1))) > bound
             if bad or far:
                 fr.setdefault("bad_snapshots", []).append(name)
+                fr.setdefault("far_pieces", {})[name] = far_pieces(s, frame.centre, bound)
         # Ticks: the stroke window from the stream, the whole run from get_stats.
         if window[0] is not None and frames:
             t0 = window[0]
@@ -718,7 +754,13 @@ class Runner:
               "rate_hz": round((w[-1]["tick"] - w[0]["tick"]) / wall, 2) if wall > 0 else None,
               "stream_step_ms": dist(f["step_ms"] for f in w),
               "frame_interval_ms": dist(intervals),
-              "solver_iterations": dist(f["iterations"] for f in w)}
+              "solver_iterations": dist(f["iterations"] for f in w),
+              # where the long steps fall: the five slowest frames of the whole run
+              "slowest_steps": [{"tick": f["tick"], "step_ms": f["step_ms"],
+                                 "iterations": f["iterations"]}
+                                for f in sorted(frames, key=lambda f: -(f["step_ms"] or 0))[:5]],
+              # every frame: [tick, step_ms, solver_iterations, topology_version]
+              "per_frame": [[f["tick"], f["step_ms"], f["iterations"], f["tv"]] for f in frames]}
         if stats is not None:
             tk["stats"] = {k: stats.get(k) for k in ("tick", "worst_tick_ms", "ticks_over_budget",
                                                      "step_ms_p50", "step_ms_p99", "errors",
@@ -740,6 +782,10 @@ class Runner:
                                       if e.get("kind") == "rejected"][:5],
                          "warnings": [e.get("detail") for _, e in events
                                       if e.get("kind") == "warning"][:5]}
+        # Per topology event: the wall time of the cuts since the previous event (docs/protocol.md),
+        # summed over the ticks whose cuts changed nothing visible (face snapping holds faces
+        # back; a re-cut along an earlier cut opens nothing for many ticks). Not a tick's cut
+        # time: the tick figures are the stream headers' and get_stats'.
         res["cut_ms"] = dist(e.get("detail", {}).get("cut_ms") for e in topo)
         res["cut_ms"]["total"] = round(sum(e.get("detail", {}).get("cut_ms") or 0 for e in topo), 3)
         if reader.extra_header or reader.extra_step:
@@ -792,7 +838,14 @@ class Runner:
             cut["cut_triangles"] = int(np.sum(surf["tags"] == 2))
             cut["topology_version"] = surf["topology_version"]
             cut["vertices"] = int(len(surf["positions"]))
-            ref = ref_rest if case.reference == "rest" else ref_world
+            # On an organ (no box) the body sags before the stroke, so the world blade clipped
+            # by the rest surface mixes two spaces (it ran 0.91-0.94 for cuts the server
+            # measured complete in rest space): the reference is the world surface at the
+            # stroke's start, the space of the cut area it is compared with. The slack of the
+            # deformed cases (grabbed, pressed) still applies only to them.
+            reference = case.reference if self.variant.box is not None else "world"
+            cut["reference"] = reference
+            ref = ref_rest if reference == "rest" else ref_world
             cut["swept_inside_cm2"] = round(1e4 * ref, 4)
             if ref > 0:
                 cut["completeness"] = round(area / (2 * ref), 4)
@@ -800,6 +853,13 @@ class Runner:
                 cut["completeness_rest"] = round(area / (2 * ref_rest), 4)
             if ref_world > 0:
                 cut["completeness_world"] = round(area / (2 * ref_world), 4)
+        if stats is not None and "cut_completeness" in stats:
+            # The server's own figure, in rest space where issue 12 item 4 states the bound (the
+            # areas above are on world positions).
+            cut["completeness_server"] = round(stats["cut_completeness"], 4)
+            cut["cut_area_server_cm2"] = round(1e4 * stats.get("cut_area", 0.0), 4)
+            cut["swept_area_server_cm2"] = round(1e4 * stats.get("swept_area", 0.0), 4)
+            cut["swept_area_undone_server_cm2"] = round(1e4 * stats.get("swept_area_undone", 0.0), 4)
         if final is not None:
             cut["area_final_cm2"] = round(1e4 * live.tagged_area(final, 2), 4)
             if cut.get("area_cm2"):
@@ -903,7 +963,7 @@ def fmt(v, spec="{:.3f}"):
 def table(results):
     cols = ["variant", "case", "ok", "alive", "exit", "bad fr", "gaps", "frames/ticks", "Hz",
             "cut cm2", "ref cm2", "complete", "drift", "worst ms", "over", "step p99",
-            "vis p50/p99 t", "cut ms max", "wall s"]
+            "vis p50/p99 t", "cut ms/event max", "wall s"]
     rows = []
     for r in results:
         fr = r.get("frames", {})
@@ -943,7 +1003,7 @@ def markdown(results):
         cutters = list(dict.fromkeys(r["cutter"] for r in rs))
         head = ["case"]
         for c in cutters:
-            head += [f"{c}: completeness", "up", "worst tick ms", "Hz cutting", "cut ms max"]
+            head += [f"{c}: completeness", "up", "worst tick ms", "Hz cutting", "cut ms/event max"]
         out.append(f"**{scene}**\n")
         out.append("| " + " | ".join(head) + " |")
         out.append("|" + "---|" * len(head))

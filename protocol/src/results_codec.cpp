@@ -158,6 +158,21 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         if (m.r.optional("build_ms") != nullptr) {
             sr.build_ms = m.number("build_ms");
         }
+        if (const json* parts = m.r.optional("build_parts"); parts != nullptr) {
+            const std::string at = m.r.at("build_parts");
+            if (!parts->is_array() || parts->size() > 64) {
+                fail(kCode, at, "must be an array of at most 64 {name, ms, rss_kb} objects");
+            }
+            for (std::size_t i = 0; i < parts->size(); ++i) {
+                Members p { ObjectReader((*parts)[i], at + "/" + std::to_string(i), kCode) };
+                SceneResult::BuildPart part;
+                part.name = read_string(p.r.required("name"), p.r.at("name"), 64, kCode);
+                part.ms = read_number(p.r.required("ms"), p.r.at("ms"), Range { 0.0 }, kCode);
+                part.rss_kb = read_int(p.r.required("rss_kb"), p.r.at("rss_kb"), 0, kI64, kCode);
+                p.r.finish();
+                sr.build_parts.push_back(std::move(part));
+            }
+        }
         return sr;
     }
     case 2:
@@ -227,6 +242,14 @@ Result decode_result(Method method, const json& value, FrameSet& frames) {
         if (const json* v = m.r.optional("contacts"); v != nullptr) {
             s.contacts = read_contacts(*v, m.r.at("contacts"), kCode);
         }
+        for (auto [name, field] :
+            { std::pair { "cut_area", &s.cut_area }, std::pair { "swept_area", &s.swept_area },
+                std::pair { "swept_area_undone", &s.swept_area_undone },
+                std::pair { "cut_completeness", &s.cut_completeness } }) {
+            if (const json* v = m.r.optional(name); v != nullptr) {
+                *field = read_number(*v, m.r.at(name), Range { 0.0 }, kCode);
+            }
+        }
         if (const json* v = m.r.optional("contact_ms"); v != nullptr) {
             s.contact_ms = read_number(*v, m.r.at("contact_ms"), Range { 0.0 }, kCode);
         }
@@ -257,6 +280,14 @@ json encode_result_json(const Result& result, Message& frames) {
                     { "topology_version", r.topology_version }, { "vertex_count", r.vertex_count },
                     { "triangle_count", r.triangle_count }, { "cell_count", r.cell_count },
                     { "build_ms", r.build_ms } };
+                if (!r.build_parts.empty()) {
+                    json parts = json::array();
+                    for (const auto& p : r.build_parts) {
+                        parts.push_back(
+                            { { "name", p.name }, { "ms", p.ms }, { "rss_kb", p.rss_kb } });
+                    }
+                    out["build_parts"] = parts;
+                }
                 if (r.replaced_tick) {
                     out["replaced_tick"] = *r.replaced_tick;
                 }
@@ -303,6 +334,10 @@ json encode_result_json(const Result& result, Message& frames) {
                 out["tools"] = r.tools;
                 out["contacts"] = contacts_json(r.contacts);
                 out["contact_ms"] = r.contact_ms;
+                out["cut_area"] = r.cut_area;
+                out["swept_area"] = r.swept_area;
+                out["swept_area_undone"] = r.swept_area_undone;
+                out["cut_completeness"] = r.cut_completeness;
             }
         },
         result);

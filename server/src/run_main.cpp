@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
         rec.setup_cpu_ms = process_cpu_ms() - setup_cpu0;
         rec.setup_rss_kb = peak_rss_kb();
         rec.scene = sc.name;
-        rec.method = sc.method;
+        rec.method = scene::to_string(sc.method);
         rec.meshing = sim.meshing_summary();
         if (rec.meshing.has_slivers)
             rec.warnings.push_back("meshing: " + std::to_string(rec.meshing.slivers)
@@ -194,6 +194,7 @@ int main(int argc, char** argv) {
         for (const auto& p : sc.probes)
             rec.probes.emplace_back(p.name, sim.probe_displacement(p.name));
         rec.model = sim.model_stats();
+        rec.build = sim.build_report(); // at the end: lazy parts say whether the run needed them
         if (!sample_points.empty()) {
             rec.sample_points = sample_points;
             sim.sample_displacements(sample_points, rec.sample_u, rec.sample_inside);

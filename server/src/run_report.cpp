@@ -39,6 +39,25 @@ nlohmann::json meshing_json(const sim::MeshingSummary& m) {
         { "has_slivers", m.has_slivers }, { "summary", m.quality_summary } };
     return j;
 }
+/// The build report: each part with its cost, the bases by kind, and the first step, which
+/// carries the solver's set-up (analysis, factorization or AMG hierarchy at the first solve).
+nlohmann::json build_json(const RunRecord& r) {
+    nlohmann::json parts = nlohmann::json::array();
+    for (const sim::BuildPart& p : r.build.parts)
+        parts.push_back({ { "name", p.name }, { "built", p.built }, { "ms", p.ms },
+            { "rss_kb", p.rss_kb }, { "detail", p.detail } });
+    nlohmann::json j = { { "parts", parts },
+        { "bases",
+            { { "p1", r.build.p1_bases }, { "q1", r.build.q1_bases },
+                { "polyhedral", r.build.polyhedral_bases }, { "dg_cells", r.build.dg_cells } } } };
+    if (!r.step_ms.empty()) {
+        j["first_step_ms"] = r.step_ms.front();
+        std::vector<double> rest(r.step_ms.begin() + 1, r.step_ms.end());
+        if (!rest.empty())
+            j["later_steps_median_ms"] = summarize(rest).median;
+    }
+    return j;
+}
 } // namespace
 
 nlohmann::json to_json(const RunRecord& r) {
@@ -65,6 +84,7 @@ nlohmann::json to_json(const RunRecord& r) {
         { "cells",
             { { "tet", r.model.tets }, { "hex", r.model.hexes },
                 { "polyhedron", r.model.polyhedra } } } };
+    j["build"] = build_json(r);
     if (!r.sample_points.empty()) {
         nlohmann::json u = nlohmann::json::array(), inside = nlohmann::json::array();
         for (std::size_t i = 0; i < r.sample_points.size(); ++i) {
@@ -85,8 +105,10 @@ nlohmann::json to_json(const RunRecord& r) {
             { "max_cut_ms",
                 r.cut_ms.empty() ? 0.0 : *std::max_element(r.cut_ms.begin(), r.cut_ms.end()) },
             { "cut_ms", summary_json(summarize(r.cut_ms)) }, { "cut_area", r.after.cut_area },
-            { "swept_area", r.after.swept_area }, { "completeness", r.after.completeness() },
-            { "failed_cuts", r.failed_cuts }, { "undone_cuts", r.undone_cuts } };
+            { "swept_area", r.after.swept_area },
+            { "swept_area_undone", r.after.swept_area_undone },
+            { "completeness", r.after.completeness() }, { "failed_cuts", r.failed_cuts },
+            { "undone_cuts", r.undone_cuts } };
         j["mesh_after"] = mesh_json(r.after);
     }
     if (!r.bodies.empty()) {

@@ -38,6 +38,8 @@ struct RunRecord {
     long setup_rss_kb = 0; ///< peak resident memory after set-up [KiB]
     long peak_rss_kb = 0; ///< peak resident memory of the run [KiB]
     sim::ModelStats model; ///< DOFs, nonzeros, cells by kind (at the end of the run)
+    /// What the scene built and what it cost (issue 17 item 6), taken at the end of the run
+    sim::BuildReport build;
     /// --samples: rest points and the displacement there at the end (inside 0: in no cell)
     std::vector<Vec3> sample_points, sample_u;
     std::vector<std::uint8_t> sample_inside;

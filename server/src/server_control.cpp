@@ -498,6 +498,13 @@ protocol::Stats Server::Impl::stats() const {
     s.tools = session.active_tools();
     s.contacts = session.contacts();
     s.contact_ms = session.has_scene() ? session.simulation().contact_ms() : 0.0;
+    if (session.has_scene()) {
+        const sim::CutAreas a = session.simulation().cut_areas();
+        s.cut_area = a.cut_area;
+        s.swept_area = a.swept_area;
+        s.swept_area_undone = a.swept_area_undone;
+        s.cut_completeness = a.completeness();
+    }
     return s;
 }
 

@@ -7,6 +7,7 @@
 #include "polycut/common/error.hpp"
 #include "server_impl.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -80,6 +81,11 @@ void Server::Impl::finish_load() {
     }
     auto& result = std::get<protocol::SceneResult>(done.result);
     result.build_ms = load.build->build_ms();
+    for (const sim::BuildPart& part : session.simulation().build_report().parts) {
+        if (part.built) {
+            result.build_parts.push_back({ part.name, part.ms, std::max(0L, part.rss_kb) });
+        }
+    }
     if (had_scene) {
         result.replaced_tick = tick_before;
     }

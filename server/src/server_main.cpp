@@ -3,11 +3,12 @@
 //                  [--record-commands FILE] [--scene-memory MB] [--curve-keys DIR | --insecure]
 //                  [--paused] [--quiet]
 //   polycut-server --curve-keygen DIR
-//   polycut-server --replay LOG [--scene-dir DIR] [--until-tick N]
+//   polycut-server --replay LOG [--scene-dir DIR] [--until-tick N] [--trace]
 // Prints one JSON line on stdout once both sockets are bound ({"control", "stream", ...}; ports
 // are resolved when an endpoint ends in ":*"), then logs one stats line per second on stderr.
 // SIGINT/SIGTERM stop it cleanly. --replay plays a command log on a fresh simulation and prints
-// the final state as one JSON line (determinism checks, offline rendering).
+// the final state as one JSON line (determinism checks, offline rendering); --trace also prints
+// one JSON line per replayed tick on stderr (step, assembly, solve and cut ms, PCG iterations).
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "server.hpp"
@@ -81,7 +82,7 @@ int usage(const std::string& why) {
         "usage: polycut-server [--scene FILE] [--control EP] [--stream EP] [--rate HZ]\n"
         "                      [--scene-dir DIR] [--record-commands FILE] [--scene-memory MB]\n"
         "                      [--curve-keys DIR | --insecure] [--paused] [--quiet]\n"
-        "       polycut-server --replay LOG [--scene-dir DIR] [--until-tick N]\n"
+        "       polycut-server --replay LOG [--scene-dir DIR] [--until-tick N] [--trace]\n"
         "       polycut-server --curve-keygen DIR\n"
         "defaults: --control tcp://127.0.0.1:5555 --stream tcp://127.0.0.1:5556 --rate 60\n",
         why.c_str());
@@ -100,7 +101,7 @@ std::string hex64(std::uint64_t v) {
     return text;
 }
 
-int replay(const std::string& log, const std::string& scene_dir, long until_tick) {
+int replay(const std::string& log, const std::string& scene_dir, long until_tick, bool trace) {
     polycut::server::SessionConfig config;
     if (!scene_dir.empty()) {
         config.scene_dir = scene_dir;
@@ -126,6 +127,14 @@ int replay(const std::string& log, const std::string& scene_dir, long until_tick
             const double cut = report.cut_ms;
             cut_ms += cut;
             worst_cut_ms = std::max(worst_cut_ms, cut);
+            if (trace) {
+                std::cerr << nlohmann::json {
+                    { "tick", report.tick }, { "step_ms", report.step_ms },
+                    { "assembly_ms", report.assembly_ms }, { "solve_ms", report.solve_ms },
+                    { "cut_ms", report.cut_ms }, { "iterations", report.solver_iterations },
+                    { "topology_changed", report.topology_changed }
+                }.dump() << "\n";
+            }
         },
         until);
     auto figures = [](const std::vector<double>& v) {
@@ -136,12 +145,17 @@ int replay(const std::string& log, const std::string& scene_dir, long until_tick
             { "p99", polycut::percentile(v, 99.0) },
             { "max", *std::max_element(v.begin(), v.end()) } };
     };
+    const polycut::sim::CutAreas areas = session.simulation().cut_areas();
     const nlohmann::json out = { { "tick", summary.tick }, { "commands", summary.commands },
         { "rejected", summary.rejected }, { "state_hash", hex64(summary.state_hash) },
         { "topology_version", summary.topology_version }, { "scene", summary.scene },
         { "step_ms", figures(step_ms) }, { "tick_cpu_ms", figures(cpu_ms) },
         { "solver_iterations", figures(iterations) }, { "cut_ms_total", cut_ms },
-        { "cut_ms_max", worst_cut_ms } };
+        { "cut_ms_max", worst_cut_ms },
+        // As get_stats reports them (rest space, issue 12 item 4), at the last tick.
+        { "cut_area", areas.cut_area }, { "swept_area", areas.swept_area },
+        { "swept_area_undone", areas.swept_area_undone },
+        { "cut_completeness", areas.completeness() } };
     std::cout << out.dump() << std::endl;
     return summary.rejected == 0 ? 0 : 1;
 }
@@ -153,6 +167,7 @@ int main(int argc, char** argv) {
     ServerConfig config;
     std::string replay_log;
     long until_tick = -1;
+    bool trace = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
@@ -161,6 +176,8 @@ int main(int argc, char** argv) {
             config.paused = true;
         } else if (a == "--insecure") {
             config.insecure = true;
+        } else if (a == "--trace") {
+            trace = true;
         } else if (a == "--quiet") {
             config.log_stats = false;
         } else if (a == "--help" || a == "-h") {
@@ -209,7 +226,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (!replay_log.empty()) {
-            return replay(replay_log, config.scene_dir, until_tick);
+            return replay(replay_log, config.scene_dir, until_tick, trace);
         }
         polycut::server::Server server(config);
         const nlohmann::json ready = { { "control", server.control_endpoint() },

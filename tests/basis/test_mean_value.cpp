@@ -409,4 +409,34 @@ TEST(MeanValue, MeshWrapperUsesCellNodeOrder) {
     }
 }
 
+TEST(MeanValue, QuadratureWeightsAndLumpedVolumesStayPositiveOnANonConvexCell) {
+    // A prism over an arrowhead (0,0) (4,2) (0,4) (3,2), 1 deep, in cm: its centroid lies in
+    // the notch, so several (triangle, centroid) tets of 000 eq. 14-16 have negative volume, as
+    // cells a cut left slightly non-convex do. A negative weight would make the stiffness
+    // indefinite, a negative lumped volume a negative mass.
+    const double s = 0.01;
+    std::vector<Vec3> nodes;
+    for (double z : { 0.0, 1.0 })
+        for (auto [x, y] : { std::pair { 0.0, 0.0 }, { 4.0, 2.0 }, { 0.0, 4.0 }, { 3.0, 2.0 } })
+            nodes.emplace_back(s * x, s * y, s * z);
+    const std::vector<std::vector<Index>> loops { { 0, 3, 1 }, { 1, 3, 2 }, // bottom, outward -z
+        { 4, 5, 7 }, { 5, 6, 7 }, // top
+        { 0, 1, 5, 4 }, { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
+    const MeanValueCell cell(nodes, loops);
+    const double volume = s * s * s * 2.0; // arrowhead 2 cm^2 (8 less the 6 of the notch)
+    ASSERT_NEAR(cell.volume(), volume, 1e-12 * volume);
+    for (const MvcRule rule : { MvcRule::Heuristic, MvcRule::Reference }) {
+        SCOPED_TRACE(rule == MvcRule::Heuristic ? "heuristic" : "reference");
+        const CellIntegration q = cell.integrate(rule, 2);
+        double sum = 0;
+        for (double w : q.weights) {
+            EXPECT_GE(w, 0.0);
+            sum += w;
+        }
+        EXPECT_NEAR(sum, volume, 1e-12 * volume);
+        EXPECT_GT(q.lumped_volume.minCoeff(), 0.0);
+        EXPECT_NEAR(q.lumped_volume.sum(), volume, 1e-12 * volume);
+    }
+}
+
 } // namespace polycut::basis

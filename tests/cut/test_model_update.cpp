@@ -27,18 +27,24 @@ std::vector<std::uint8_t> fixed_for(const mesh::Mesh& mm) {
     return elasticity::fix_nodes(nodes);
 }
 
-/// The updated model and one built afresh on the same mesh give the same stiffness, forces and
-/// mass at a random deformed state, corotated.
-void expect_same_system(elasticity::ElasticModel& model, elasticity::ElasticModel& fresh,
-    const mesh::Mesh& m, unsigned seed) {
-    ASSERT_EQ(model.num_free_dofs(), fresh.num_free_dofs());
+/// The rest positions moved by up to 1 mm per axis at random (a deformed state).
+MatX3 jittered(const mesh::Mesh& m, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> jitter(-1e-3, 1e-3);
     MatX3 x(m.num_nodes(), 3);
     for (Index i = 0; i < m.num_nodes(); ++i)
         x.row(i)
             = (m.rest[std::size_t(i)] + Vec3(jitter(rng), jitter(rng), jitter(rng))).transpose();
-    solve::SparseMatrix K1 = model.make_matrix(), K2 = fresh.make_matrix();
+    return x;
+}
+
+/// The updated model and one built afresh on the same mesh give the same stiffness, forces and
+/// mass at a random deformed state, corotated.
+void expect_same_system(elasticity::ElasticModel& model, elasticity::ElasticModel& fresh,
+    const mesh::Mesh& m, unsigned seed) {
+    ASSERT_EQ(model.num_free_dofs(), fresh.num_free_dofs());
+    const MatX3 x = jittered(m, seed);
+    SparseMatrix K1 = model.make_matrix(), K2 = fresh.make_matrix();
     // The pattern is a function of the mesh: an incremental update must give the same arrays.
     ASSERT_EQ(K1.nonZeros(), K2.nonZeros());
     EXPECT_TRUE(std::equal(
@@ -197,4 +203,44 @@ TEST(ModelUpdate, ANodeLeftWithoutCellsLosesItsDofsAndTheLaterOnesMoveDown) {
 
 TEST(ModelUpdate, SnapStrokeThroughTetGridEqualsARebuildAfterEveryCut) {
     stroke_keeps_model_equal_to_rebuild<cut::SnapCutter>(21);
+}
+
+TEST(ModelUpdate, ACutsCellsStayInTheirThreadOfTheAssembly) {
+    // Threaded assembly splits cells by node ranges. A cut appends its nodes at the end; they
+    // take the range of the cells that made them, so the cells a cut makes stay threaded
+    // instead of all going to the serial part (ElasticModel::shared_cells), and the threaded
+    // system still equals a rebuild's. A 6 x 6 x 4 tet grid cut by a plane through half its
+    // cells in the first node range.
+    mesh::BoxGrid g;
+    g.hi = Vec3(0.06, 0.06, 0.04);
+    g.cells = { 6, 6, 4 };
+    mesh::Mesh m = mesh::tet_grid(g);
+    const elasticity::Material mat = tissue();
+    elasticity::ElasticModel model(m, mat, {}, fixed_for(m));
+    model.set_threads(2);
+    const Index shared_before = model.shared_cells();
+    cut::Cutter cutter(m);
+    const cut::CutReport report
+        = cutter.split_by_plane(Vec3(0.0301, 0.0173, 0.0113), Vec3(0.3, 1, 0.2));
+    const Index added = report.cells_after - report.cells_before;
+    ASSERT_GT(added, 20);
+    model.update_cells(report.changed_cells, report.cell_map); // slivers merged away too
+    model.set_fixed_dofs(fixed_for(m));
+    // Only the cut cells that straddle the two ranges join the serial part: far fewer than the
+    // cells the cut made (104 of 194 did before).
+    EXPECT_LT(model.shared_cells() - shared_before, added / 4)
+        << "shared " << shared_before << " -> " << model.shared_cells() << ", " << added
+        << " cells added";
+    // The threaded assembly of the cut model equals the serial one to the order of sums.
+    const MatX3 x = jittered(m, 5);
+    SparseMatrix K2 = model.make_matrix(), K1 = model.make_matrix();
+    VecX f2, f1;
+    model.assemble(x, elasticity::ForceMode::Corotated, &K2, &f2);
+    model.set_threads(1);
+    model.assemble(x, elasticity::ForceMode::Corotated, &K1, &f1);
+    EXPECT_NEAR((MatX(K1) - MatX(K2)).norm(), 0.0, 1e-12 * MatX(K1).norm());
+    EXPECT_NEAR((f1 - f2).norm(), 0.0, 1e-12 * f1.norm());
+    // And the updated model is the one a rebuild gives.
+    elasticity::ElasticModel fresh(m, mat, {}, fixed_for(m));
+    expect_same_system(model, fresh, m, 7);
 }

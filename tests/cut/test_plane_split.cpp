@@ -4,6 +4,7 @@
 #include "polycut/cut/invariants.hpp"
 #include "polycut/mesh/builders.hpp"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 
 using namespace polycut;
@@ -67,4 +68,23 @@ TEST(PlaneSplit, SplitOneCellGivesNeighboursHangingNodes) {
     EXPECT_TRUE(inv.ok()) << inv.first_problem;
     // Neighbours of cell 0 got nodes on shared edges and changed.
     EXPECT_GT(r.changed_cells.size(), 2u);
+}
+
+TEST(PlaneSplit, OpenCellProblemNamesAFlippedFaceAndAnOpenCell) {
+    // The check the cut pipeline runs on every cell a cut changed (a broken one fails the cut).
+    auto m = block(1, 1.0);
+    EXPECT_EQ(cut::open_cell_problem(m, 0), "");
+    cut::Cutter cutter(m);
+    cutter.split_by_plane(Vec3(0.3, 0.5, 0.5), Vec3(1, 0.2, 0.1));
+    for (Index c = 0; c < m.num_cells(); ++c)
+        EXPECT_EQ(cut::open_cell_problem(m, c), "") << "cell " << c;
+    auto flipped = m;
+    const Index f = flipped.cells[0].faces.front();
+    std::reverse(
+        flipped.faces[std::size_t(f)].nodes.begin(), flipped.faces[std::size_t(f)].nodes.end());
+    EXPECT_NE(
+        cut::open_cell_problem(flipped, 0).find("twice in the same direction"), std::string::npos);
+    auto open = m;
+    open.cells[0].faces.pop_back();
+    EXPECT_NE(cut::open_cell_problem(open, 0).find("no opposite edge"), std::string::npos);
 }

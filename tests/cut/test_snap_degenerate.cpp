@@ -90,6 +90,10 @@ cut::SnapStats clean(mesh::Mesh& m, const cut::SnapOptions& opt = {}) {
     const auto r = cutter.remove_degeneracies();
     expect_report_consistent(m, r);
     expect_node_map(before, m, r);
+    // Nodes that existed before the call keep their ids, even when the tets that used them are
+    // gone (the caller then updates only the changed cells, issue 12 item 5).
+    EXPECT_TRUE(r.node_map.empty());
+    EXPECT_GE(m.num_nodes(), before.num_nodes());
     const auto inv = expect_ok(m, v0);
     EXPECT_TRUE(inv.finite);
     const auto& st = cutter.stats();
@@ -194,6 +198,7 @@ TEST(SnapDegenerate, CutsOfJitteredGridsRemoveEveryKind) {
             const auto r = cutter.cut(square(Vec3(0.047 + 0.001 * k, 0.05, 0.05), u, v, 0.2));
             expect_report_consistent(m, r);
             expect_node_map(before, m, r);
+            EXPECT_TRUE(r.node_map.empty()) << "cut " << k << ": the old nodes keep their ids";
             const auto inv = expect_ok(m, v0);
             ASSERT_TRUE(inv.ok()) << "cut " << k << ": " << inv.first_problem;
             const auto& st = cutter.stats();

@@ -8,6 +8,8 @@
 #include "polycut/mesh/builders.hpp"
 #include "polycut/solve/cholmod_solver.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <gtest/gtest.h>
 
 using namespace polycut;
@@ -92,5 +94,69 @@ TEST(DgCantilever, CorotatedForcesVanishUnderRigidRotation) {
         model.assemble(x, Warp::Linear, nullptr, &f_lin);
         EXPECT_LT(f_rot.norm(), 1e-8 * f_lin.norm()) << "p=" << p;
         EXPECT_GT(f_lin.norm(), 1.0) << "p=" << p;
+    }
+}
+
+TEST(DgCorotation, StiffnessInTurnsEqualsAFullAssemblyOnceEveryCellHadItsTurn) {
+    // IntegratorOptions::stiffness_every with DG (Model::assemble_in_turns): each step moves
+    // the terms of every period-th cell to the current rotations. Starting from K assembled in
+    // full at a twisted state x0, `period` turns at a more twisted x1 must give the K of a full
+    // assembly at x1 (each cell's terms moved exactly once), and every turn the full f_int.
+    for (int p : { 1, 2 }) {
+        const mesh::Mesh m = test::box_mesh(test::Kind::Cut, 2);
+        elasticity::Material mat;
+        DgOptions o;
+        o.degree = p;
+        DgModel model(m, mat, o);
+        // Each cell turned about x by an angle growing along x (a twist: no common rotation).
+        auto twisted = [&](double rate) {
+            MatX3 x = model.rest();
+            for (Index c = 0; c < model.num_cells(); ++c) {
+                const Vec3 centre = model.rest().row(model.offset(c)).transpose();
+                const Mat3 R = Eigen::AngleAxisd(rate * (0.5 + centre.x()), Vec3::UnitX())
+                                   .toRotationMatrix();
+                for (int i = 0; i < model.basis(c).size(); ++i) {
+                    const Index r = model.offset(c) + i;
+                    x.row(r) = (R * Vec3(x.row(r))).transpose();
+                }
+            }
+            return x;
+        };
+        const MatX3 x0 = twisted(0.3), x1 = twisted(0.7);
+        SparseMatrix K = model.make_matrix(), K1 = model.make_matrix();
+        VecX f, f1;
+        DgModel reference = model;
+        reference.assemble(x1, Warp::Corotated, &K1, &f1);
+        model.assemble(x0, Warp::Corotated, &K, &f);
+        constexpr int kPeriod = 3;
+        for (int phase = 0; phase < kPeriod; ++phase) {
+            ASSERT_TRUE(model.assemble_in_turns(x1, K, f, phase, kPeriod)) << "p=" << p;
+            EXPECT_LT((f - f1).norm(), 1e-12 * f1.norm()) << "p=" << p << " turn " << phase;
+            const double gap = (K - K1).norm() / K1.norm();
+            if (phase + 1 < kPeriod) {
+                EXPECT_GT(gap, 1e-6) << "p=" << p << ": cells not yet turned keep x0's terms";
+            } else {
+                EXPECT_LT(gap, 1e-13) << "p=" << p;
+            }
+        }
+        EXPECT_LT((K - SparseMatrix(K.transpose())).norm(), 1e-13 * K.norm());
+        // Round-off over many turns: 1,000 turns through changing twists, then one round at a
+        // last state, against a full assembly there.
+        for (int step = 0; step < 1000; ++step)
+            ASSERT_TRUE(model.assemble_in_turns(
+                twisted(0.7 + 0.5 * std::sin(0.01 * step)), K, f, step % kPeriod, kPeriod));
+        const MatX3 x2 = twisted(0.4);
+        for (int phase = 0; phase < kPeriod; ++phase)
+            ASSERT_TRUE(model.assemble_in_turns(x2, K, f, phase, kPeriod));
+        SparseMatrix K2 = model.make_matrix();
+        VecX f2;
+        DgModel fresh = model;
+        fresh.assemble(x2, Warp::Corotated, &K2, &f2);
+        const double drift = (K - K2).norm() / K2.norm();
+        std::printf("p=%d: K after 1,000 turns against a full assembly: %.2e relative\n", p, drift);
+        EXPECT_LT(drift, 1e-12) << "p=" << p;
+        // A K of another pattern is refused, unchanged.
+        SparseMatrix other(3, 3);
+        EXPECT_FALSE(model.assemble_in_turns(x1, other, f, 0, kPeriod));
     }
 }

@@ -37,7 +37,7 @@ void sources(const mesh::Mesh& m, const cut::CutReport& report, std::vector<Inde
         unchanged[std::size_t(c)] = 0;
 }
 
-double relative_difference(const solve::SparseMatrix& a, const solve::SparseMatrix& b) {
+double relative_difference(const SparseMatrix& a, const SparseMatrix& b) {
     const MatX da(a), db(b);
     return (da - db).cwiseAbs().maxCoeff() / da.cwiseAbs().maxCoeff();
 }

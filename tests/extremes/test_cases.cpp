@@ -294,3 +294,44 @@ TEST(Extremes, CutFreesAPieceThatFallsFreely) {
     EXPECT_EQ(w.undone, 0);
     EXPECT_TRUE(s.mesh_stats().surface_closed);
 }
+
+TEST(Extremes, CutFreeingASmallCornerHoldsTheFragmentWhereItIs) {
+    // Three cuts meeting at (0.04, 0.04, 0.09) free the block's top corner (1 x 1 x 1 cm, 0.1 %
+    // of its volume). A fragment that small (at most 64 cells and 1 % of the body) is held where
+    // it is instead of falling for ever (Simulation::Impl::pin_free_fragments); the slab of
+    // CutFreesAPieceThatFallsFreely (37.5 % of the block) still falls.
+    sim::Simulation s(scene::parse_scene(block_scene("mvc")));
+    const auto rest = rest_of(s);
+    Watch w;
+    w.dt = 0.01;
+    w.mass = 1000 * 1e-3;
+    ASSERT_TRUE(step_and_check(s, 5, w, rest));
+    const double c = 0.04, zc = 0.09, far = 0.08, top = 0.13;
+    const auto rect = [](Vec3 a, Vec3 b, Vec3 d) { // the rectangle a, a + (b - a), a + (d - a)
+        const Vec3 e = b + (d - a);
+        return std::vector<std::array<Vec3, 3>> { { a, b, d }, { b, e, d } };
+    };
+    int pinned = 0;
+    for (const auto& tris : { rect(Vec3(c, c, zc), Vec3(c, far, zc), Vec3(c, c, top)),
+             rect(Vec3(c, c, zc), Vec3(far, c, zc), Vec3(c, c, top)),
+             rect(Vec3(c, c, zc), Vec3(far, c, zc), Vec3(c, far, zc)) }) {
+        const sim::CutSummary cut = s.cut(tris);
+        ASSERT_TRUE(cut.ok()) << cut.reason;
+        pinned += cut.fragments_pinned;
+    }
+    EXPECT_EQ(s.mesh_stats().components, 2);
+    EXPECT_EQ(pinned, 1);
+    std::vector<Vec3> corner { Vec3(0.045, 0.045, 0.095) }, u0, u;
+    std::vector<std::uint8_t> inside;
+    s.sample_displacements(corner, u0, inside);
+    ASSERT_TRUE(inside[0]);
+    for (int step = 0; step < 40; ++step)
+        ASSERT_TRUE(step_and_check(s, 1, w, rest)) << w.first_warning;
+    s.sample_displacements(corner, u, inside);
+    ASSERT_TRUE(inside[0]);
+    // held: it stays where the cut left it, to round-off (falling freely for 0.4 s it would have
+    // dropped 0.78 m)
+    EXPECT_LT((u[0] - u0[0]).norm(), 1e-9) << (u[0] - u0[0]).transpose();
+    EXPECT_EQ(w.undone, 0);
+    EXPECT_TRUE(s.mesh_stats().surface_closed);
+}

@@ -343,3 +343,26 @@ TEST(SurfaceFile, ScaleAndOptionErrors) {
     EXPECT_NEAR(out.mesh.rest_volume(), enclosed_volume(organ),
         surface_area(organ) * o.meshing.effective_facet_distance());
 }
+
+// A cube whose lower corners collapsed to subnormal coordinates (~1e-312), closed and with one
+// side missing, found by tests/fuzz/fuzz_surface_readers: each reads as a soup, and PMP's
+// self-intersection removal used to abort the process on it (NaN positions from its smoothing,
+// then SIGFPE in GMP; a SEGV walking the mesh). Now PMP returns a clean surface or refuses it
+// with InputError.
+TEST(Repair, SubnormalCollapsedCubeIsRefusedOrRepairedWithoutCrashing) {
+    for (const char* name : { "pmp_smoothing_nan.ply", "pmp_removal_segv.ply" }) {
+        SCOPED_TRACE(name);
+        const SurfaceMesh in
+            = read_surface(std::string(POLYCUT_SOURCE_DIR) + "/tests/meshing/data/" + name, false);
+        ASSERT_GE(in.triangles.size(), 10u);
+        try {
+            const SurfaceMesh out = repair_surface(in, mode(RepairMode::Pmp), 1.0);
+            EXPECT_TRUE(closed_surface_problem(out).empty()) << closed_surface_problem(out);
+            for (const Vec3& p : out.positions)
+                EXPECT_TRUE(p.allFinite());
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("after PMP repair"), std::string::npos)
+                << e.what();
+        }
+    }
+}

@@ -394,3 +394,18 @@ TEST(SurfaceIo, FuzzedFilesLoadOrThrowPolycutErrors) {
     EXPECT_GT(refused, 0);
     EXPECT_GT(loaded, 0);
 }
+
+// Vertices no face uses (found by tests/fuzz/fuzz_surface_readers: a PLY listing two tets'
+// vertices but only the first tet's faces) used to become isolated vertices of the CGAL mesh,
+// which the outward orientation read out of bounds (ASan: heap-use-after-free). They are
+// dropped: the closed surface is the tet alone, with its exact volume.
+TEST(SurfaceIo, UnusedVerticesAreDroppedFromAClosedSurface) {
+    const std::string off
+        = "OFF\n8 4 0\n" + kTetVertices + "5 5 5\n6 5 5\n5 6 5\n5 5 6\n" + kTetFaces;
+    const SurfaceMesh s = read_surface(write_bytes("unused_vertices.off", off), true);
+    EXPECT_EQ(s.positions.size(), 4u);
+    ASSERT_EQ(s.triangles.size(), 4u);
+    EXPECT_NEAR(enclosed_volume(s), 1.0 / 6.0, 1e-15);
+    const SurfaceMesh soup = read_surface(write_bytes("unused_vertices_soup.off", off), false);
+    EXPECT_EQ(soup.positions.size(), 8u); // without require_closed the file is returned as read
+}

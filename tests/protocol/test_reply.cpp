@@ -20,7 +20,8 @@ Result sample_result(Method method) {
         return h;
     }
     case 1:
-        return SceneResult { 0, "cut_halves", 1, 386, 768, 1200, 3120, 41.5 };
+        return SceneResult { 0, "cut_halves", 1, 386, 768, 1200, 3120, 41.5,
+            { { "mesh", 3.5, 120 }, { "model", 1.25, 2048 }, { "integrator", 0.0, 0 } } };
     case 2:
         return RunState { 99, method == Method::Resume, 120.0 };
     case 3:

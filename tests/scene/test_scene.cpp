@@ -38,10 +38,10 @@ std::string with(const std::string& from, const std::string& to) {
 TEST(Scene, MinimalSceneGetsDefaults) {
     const Scene s = parse_scene(kMinimal);
     EXPECT_EQ(s.name, "block");
-    EXPECT_EQ(s.method, "tet");
+    EXPECT_EQ(s.method, Method::Tet);
     EXPECT_EQ(s.geometry.cells, Eigen::Vector3i(4, 4, 4));
     EXPECT_DOUBLE_EQ(s.material.poisson_ratio, 0.45);
-    EXPECT_EQ(s.integrator.type, "implicit_euler");
+    EXPECT_EQ(s.integrator.type, integrate::IntegratorKind::ImplicitEuler);
     ASSERT_EQ(s.fixed.size(), 1u);
     EXPECT_TRUE(selects(s.fixed[0].where, Vec3(0.03, 0.02, 0.0)));
     EXPECT_FALSE(selects(s.fixed[0].where, Vec3(0.03, 0.02, 0.001)));
@@ -108,18 +108,18 @@ TEST(Scene, LoadsAndSweepsParse) {
 }
 
 TEST(Scene, SolverWarmStartParses) {
-    EXPECT_EQ(parse_scene(kMinimal).solver.warm_start, "previous");
+    EXPECT_EQ(parse_scene(kMinimal).solver.warm_start, WarmStart::Previous);
     const std::string loads = "\"loads\": {\"gravity\": [0, 0, -9.81]}";
     const Scene s = parse_scene(with(
         loads, loads + R"(, "solver": {"preconditioner": "amg", "warm_start": "extrapolated"})"));
-    EXPECT_EQ(s.solver.warm_start, "extrapolated");
+    EXPECT_EQ(s.solver.warm_start, WarmStart::Extrapolated);
     EXPECT_EQ(s.solver.refactor_iterations, 50);
     EXPECT_EQ(parse_scene(with(loads, loads + R"(, "solver": {"refactor_iterations": 10})"))
                   .solver.refactor_iterations,
         10);
     EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"refactor_iterations": -1})")),
         "/solver/refactor_iterations");
-    EXPECT_EQ(s.solver.preconditioner, "amg");
+    EXPECT_EQ(s.solver.preconditioner, Preconditioner::Amg);
     EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"warm_start": "linear"})")),
         "/solver/warm_start");
 }
@@ -174,8 +174,8 @@ TEST(Scene, PressureCornersHollowSphereNodeSupportsAndVolumetricParse) {
            "basis": {"volumetric": "mean_dilatation"})"));
     ASSERT_EQ(s.loads.pressures.size(), 1u);
     EXPECT_DOUBLE_EQ(s.loads.pressures[0].pressure, 250);
-    EXPECT_EQ(s.basis.volumetric, "mean_dilatation");
-    EXPECT_EQ(parse_scene(kMinimal).basis.volumetric, "full");
+    EXPECT_EQ(s.basis.volumetric, basis::VolumetricRule::MeanDilatation);
+    EXPECT_EQ(parse_scene(kMinimal).basis.volumetric, basis::VolumetricRule::Full);
     EXPECT_EQ(error_pointer(with(R"("loads": {"gravity": [0, 0, -9.81]})",
                   R"("loads": {"pressure": [{"pressure": 1}]})")),
         "/loads/pressure/0");
@@ -195,7 +195,7 @@ TEST(Scene, PressureCornersHollowSphereNodeSupportsAndVolumetricParse) {
         "radius": 0.04, "inner_radius": 0.02, "cell_size": 0.005})";
     const Scene h = parse_scene(with(
         R"("geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]})", hollow));
-    EXPECT_EQ(h.geometry.shape, "hollow_sphere");
+    EXPECT_EQ(h.geometry.shape, Shape::HollowSphere);
     EXPECT_DOUBLE_EQ(h.geometry.inner_radius, 0.02);
     EXPECT_EQ(error_pointer(with(
                   R"("geometry": {"type": "box", "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]})",

@@ -44,8 +44,8 @@ const std::vector<std::string> kDefaultOptimize { "perturb", "exude" };
 TEST(SceneMeshing, SurfaceFileDefaults) {
     const Geometry g = surface();
     EXPECT_EQ(g.kind, Geometry::Kind::SurfaceFile);
-    EXPECT_EQ(g.repair, "auto");
-    EXPECT_EQ(g.components, "union");
+    EXPECT_EQ(g.repair, Repair::Auto);
+    EXPECT_EQ(g.components, Components::Union);
     EXPECT_EQ(g.wrap_alpha, 0.0); // 0: cell_size, applied by the meshing
     EXPECT_EQ(g.wrap_offset, 0.0); // 0: cell_size / 30
     EXPECT_EQ(g.optimize, kDefaultOptimize);
@@ -57,9 +57,10 @@ TEST(SceneMeshing, SurfaceFileDefaults) {
 
 TEST(SceneMeshing, SurfaceFileValidValues) {
     for (const char* mode : { "auto", "none", "pmp", "wrap" })
-        EXPECT_EQ(surface(std::string(R"("repair": ")") + mode + "\"").repair, mode);
+        EXPECT_STREQ(to_string(surface(std::string(R"("repair": ")") + mode + "\"").repair), mode);
     for (const char* mode : { "union", "largest", "refuse" })
-        EXPECT_EQ(surface(std::string(R"("components": ")") + mode + "\"").components, mode);
+        EXPECT_STREQ(
+            to_string(surface(std::string(R"("components": ")") + mode + "\"").components), mode);
 
     Geometry g = surface(R"("repair": "wrap", "wrap": {"alpha": 0.004, "offset": 2e-4})");
     EXPECT_DOUBLE_EQ(g.wrap_alpha, 0.004);
@@ -154,9 +155,9 @@ TEST(SceneMeshing, MeshFileTakesNoMeshingKeys) {
 TEST(SceneMeshing, NodeOrder) {
     // issue 18: meshed tets are renumbered by reverse Cuthill-McKee unless the scene keeps
     // Mesh_3's order
-    EXPECT_EQ(implicit().node_order, "rcm");
-    EXPECT_EQ(surface().node_order, "rcm");
-    EXPECT_EQ(implicit(R"("node_order": "mesher")").node_order, "mesher");
-    EXPECT_EQ(surface(R"("node_order": "mesher")").node_order, "mesher");
+    EXPECT_EQ(implicit().node_order, NodeOrder::Rcm);
+    EXPECT_EQ(surface().node_order, NodeOrder::Rcm);
+    EXPECT_EQ(implicit(R"("node_order": "mesher")").node_order, NodeOrder::Mesher);
+    EXPECT_EQ(surface(R"("node_order": "mesher")").node_order, NodeOrder::Mesher);
     EXPECT_EQ(error_pointer(kImplicit, R"("node_order": "metis")"), "/geometry/node_order");
 }

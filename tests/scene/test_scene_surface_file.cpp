@@ -17,7 +17,7 @@ namespace {
 const std::string kDefects = std::string(POLYCUT_SOURCE_DIR) + "/assets/meshes/liver_defects.off";
 
 /// The defective organ surface (10 x 6.4 x 4.4 cm) at a coarse 1 cm cell size.
-Scene organ(const std::string& repair) {
+Scene organ(Repair repair = Repair::Auto) {
     Scene s;
     s.geometry.kind = Geometry::Kind::SurfaceFile;
     s.geometry.path = kDefects;
@@ -40,7 +40,7 @@ std::string error_pointer(const Scene& s) {
 
 TEST(SceneSurfaceFile, RepairedOrganReportsRepairAndQuality) {
     sim::MeshingSummary m;
-    const mesh::Mesh mesh = sim::build_mesh(organ("auto"), &m);
+    const mesh::Mesh mesh = sim::build_mesh(organ(), &m);
     ASSERT_TRUE(m.meshed);
     EXPECT_EQ(m.source, "surface_file");
     ASSERT_TRUE(m.has_repair);
@@ -76,7 +76,7 @@ TEST(SceneSurfaceFile, RepairedOrganReportsRepairAndQuality) {
 TEST(SceneSurfaceFile, ScaleAppliesBeforeTheRepairAndMeshing) {
     // scale multiplies the file's positions before the repair and Mesh_3; the scene's cell
     // size stays in metres.
-    Scene s = organ("pmp");
+    Scene s = organ(Repair::Pmp);
     sim::MeshingSummary metres;
     const mesh::Mesh a = sim::build_mesh(s, &metres);
     s.geometry.scale = 2.0; // twice as large, same cell size: ~8x the volume
@@ -89,7 +89,7 @@ TEST(SceneSurfaceFile, ScaleAppliesBeforeTheRepairAndMeshing) {
 
 TEST(SceneSurfaceFile, RepairNoneRefusesTheDefectiveSurface) {
     try {
-        sim::build_mesh(organ("none"));
+        sim::build_mesh(organ(Repair::None));
         FAIL() << "no error";
     } catch (const SceneError& e) {
         EXPECT_EQ(e.where(), "/geometry/path");
@@ -98,18 +98,14 @@ TEST(SceneSurfaceFile, RepairNoneRefusesTheDefectiveSurface) {
 }
 
 TEST(SceneSurfaceFile, MeshingErrorsPointAtTheSceneKey) {
-    Scene s = organ("fix"); // a Scene built in code skips the parser's checks
-    EXPECT_EQ(error_pointer(s), "/geometry/repair");
-    s = organ("auto");
-    s.geometry.components = "all";
-    EXPECT_EQ(error_pointer(s), "/geometry/components");
-    s = organ("auto");
+    // repair and components are enums: a Scene built in code cannot name an unknown mode
+    Scene s = organ();
     s.geometry.optimize = { "smooth" };
     EXPECT_EQ(error_pointer(s), "/geometry/optimize");
-    s = organ("auto");
+    s = organ();
     s.geometry.sliver_bound = 75; // meshing::check_options: [0, 60) deg
     EXPECT_EQ(error_pointer(s), "/geometry/sliver_bound");
-    s = organ("auto");
+    s = organ();
     s.geometry.path = std::string(POLYCUT_SOURCE_DIR) + "/assets/meshes/missing.off";
     EXPECT_THROW(sim::build_mesh(s), FileError);
 }
@@ -117,7 +113,7 @@ TEST(SceneSurfaceFile, MeshingErrorsPointAtTheSceneKey) {
 TEST(SceneSurfaceFile, ImplicitShapeReportsQualityWithoutRepair) {
     Scene s;
     s.geometry.kind = Geometry::Kind::Implicit;
-    s.geometry.shape = "sphere";
+    s.geometry.shape = Shape::Sphere;
     s.geometry.radii = Vec3::Constant(0.03);
     s.geometry.cell_size = 0.01;
     sim::MeshingSummary m;

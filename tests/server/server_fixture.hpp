@@ -130,12 +130,20 @@ inline std::optional<protocol::Message> recv_message(
     return frames;
 }
 
-inline void send_message(zmq::socket_t& socket, const protocol::Message& frames) {
+/// Sends a multipart message; false when the socket's send timeout (ZMQ_SNDTIMEO) passed before
+/// the first frame could be queued (a DEALER whose handshake was refused has no pipe to queue on).
+inline bool send_message(zmq::socket_t& socket, const protocol::Message& frames) {
     for (std::size_t k = 0; k < frames.size(); ++k) {
-        socket.send(zmq::buffer(frames[k]),
-            k + 1 < frames.size() ? zmq::send_flags::sndmore : zmq::send_flags::none);
+        if (!socket.send(zmq::buffer(frames[k]),
+                k + 1 < frames.size() ? zmq::send_flags::sndmore : zmq::send_flags::none)) {
+            return false;
+        }
     }
+    return true;
 }
+
+/// How long a test client's send may block: a refused peer must not hang the test.
+inline constexpr int kTestSendTimeoutMs = 5000;
 
 /// A DEALER client.
 class Client {
@@ -143,6 +151,7 @@ public:
     Client(zmq::context_t& context, const std::string& endpoint, const std::string& identity = {})
         : m_socket(context, zmq::socket_type::dealer) {
         m_socket.set(zmq::sockopt::linger, 0);
+        m_socket.set(zmq::sockopt::sndtimeo, kTestSendTimeoutMs);
         if (!identity.empty()) {
             m_socket.set(zmq::sockopt::routing_id, identity);
         }
@@ -152,7 +161,9 @@ public:
     /// Sends raw frames and returns the reply frames (nullopt on timeout).
     std::optional<protocol::Message> raw(const protocol::Message& frames,
         std::chrono::milliseconds timeout = std::chrono::milliseconds(10000)) {
-        send_message(m_socket, frames);
+        if (!send_message(m_socket, frames)) {
+            return std::nullopt;
+        }
         return recv_message(m_socket, timeout);
     }
 

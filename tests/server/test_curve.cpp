@@ -21,6 +21,7 @@ protected:
         const std::pair<std::string, std::string>& client) {
         zmq::socket_t s(context, type);
         s.set(zmq::sockopt::linger, 0);
+        s.set(zmq::sockopt::sndtimeo, kTestSendTimeoutMs);
         s.set(zmq::sockopt::curve_serverkey, read_curve_keys(keys_dir()).server_public);
         s.set(zmq::sockopt::curve_publickey, client.first);
         s.set(zmq::sockopt::curve_secretkey, client.second);
@@ -30,7 +31,9 @@ protected:
 };
 
 std::optional<Message> hello(zmq::socket_t& s, int timeout_ms) {
-    send_message(s, Message { R"({"jsonrpc":"2.0","id":1,"method":"hello"})" });
+    if (!send_message(s, Message { R"({"jsonrpc":"2.0","id":1,"method":"hello"})" })) {
+        return std::nullopt; // the handshake was refused: no pipe to send on
+    }
     return recv_message(s, std::chrono::milliseconds(timeout_ms));
 }
 

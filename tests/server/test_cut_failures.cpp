@@ -88,9 +88,18 @@ TEST_P(CutFailures, CutRequestGetsAnErrorAndNothingChanges) {
     EXPECT_EQ(after.state_hash, before.state_hash);
     EXPECT_EQ(after.topology_version, before.topology_version);
     EXPECT_EQ(after.cell_count, before.cell_count);
+    // The blade swept tissue it did not cut: get_stats counts it as swept and undone.
+    EXPECT_EQ(after.swept_area, before.swept_area);
+    EXPECT_GT(after.swept_area_undone, 0.0);
     // The same cut goes through once nothing is armed.
     const auto ok = client->ok<CutResult>(CutParams { incision(0.003, -0.012, 0.012, 0.008) });
     EXPECT_GT(ok.topology_version, before.topology_version);
+    // The applied cut swept what the failed one did (the same triangles, the same tissue), and
+    // the completeness divides by both: half what the applied cut alone would give.
+    const Stats done = client->stats();
+    EXPECT_NEAR(done.swept_area, after.swept_area_undone, 1e-12);
+    EXPECT_GT(done.cut_area, 0.0);
+    EXPECT_NEAR(done.cut_completeness, 0.5 * done.cut_area / (2 * done.swept_area), 1e-12);
 }
 
 TEST_P(CutFailures, EndStrokeGetsAnErrorAndTheStrokeIsClosed) {

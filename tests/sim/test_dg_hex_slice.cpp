@@ -56,7 +56,7 @@ TEST(DgHexSlice, SlicedColumnHoldsTheExactGravitySolutionAtP2) {
     s.geometry.path = column_off();
     s.geometry.cell_size = 0.007;
     s.geometry.merge_fraction = 0.3;
-    s.method = "dg";
+    s.method = scene::Method::Dg;
     s.basis.degree = 2;
     s.probes.clear();
     const mesh::Mesh m = sim::build_mesh(s);

@@ -111,9 +111,9 @@ TEST(DgScenes, GravityColumnIsExactForQuadraticCells) {
     // Nitsche's condition is consistent: the tip equals rho g L^2 / (2 E) to round-off.
     for (const int p : { 1, 2 }) {
         scene::Scene s = scene::load_scene(asset("bar_gravity.json"));
-        s.method = "dg";
+        s.method = scene::Method::Dg;
         s.basis.degree = p;
-        s.geometry.elements = "hex";
+        s.geometry.elements = scene::Elements::Hex;
         const double w = static_tip(s).z;
         const double reference = 1000 * 9.81 * 0.2 * 0.2 / (2 * 1e5);
         std::printf("[ info ] gravity column DG p=%d: tip %.6e m, reference %.6e m (%+.3e)\n", p, w,
@@ -127,7 +127,7 @@ TEST(DgScenes, FallingCellSettlesOnItsStaticSolution) {
     // implicit Euler, corotated, damped; after 200 steps it rests where the corotated static
     // solve puts it.
     scene::Scene s = scene::load_scene(asset("falling_cell.json"));
-    s.method = "dg";
+    s.method = scene::Method::Dg;
     s.basis.degree = 2;
     sim::Simulation dyn(s);
     double e_max_late = 0;
@@ -138,7 +138,7 @@ TEST(DgScenes, FallingCellSettlesOnItsStaticSolution) {
             e_max_late = std::max(e_max_late, dyn.energy().kinetic);
     }
     scene::Scene st = s;
-    st.integrator.type = "static";
+    st.integrator.type = integrate::IntegratorKind::Static;
     sim::Simulation stat(st);
     ASSERT_FALSE(stat.step().rolled_back);
     const Vec3 a = dyn.probe_displacement("top"), b = stat.probe_displacement("top");
@@ -157,14 +157,14 @@ TEST(DgScenes, CooksMembraneNearIncompressibleWithTheNormalLambdaPenalty) {
     double tip[2] = { 0, 0 };
     for (int k = 0; k < 2; ++k) {
         scene::Scene s = scene::load_scene(asset("cook_hex.json"));
-        s.method = "dg";
+        s.method = scene::Method::Dg;
         s.basis.degree = 2;
         s.geometry.cells = Eigen::Vector3i(16, 16, 1);
-        s.dg.lambda_penalty = k == 0 ? "full" : "normal";
+        s.dg.lambda_penalty = k == 0 ? dg::LambdaPenalty::Full : dg::LambdaPenalty::Normal;
         tip[k] = static_tip(s, "c", 1).z;
         std::printf("[ info ] Cook's membrane DG p=2 16x16, lambda penalty %s: %.3f m "
                     "(reference 28.0)\n",
-            s.dg.lambda_penalty.c_str(), tip[k]);
+            scene::to_string(s.dg.lambda_penalty), tip[k]);
     }
     // Measured: full 18.9 m (locks, like P1 ~10 m and Q1 ~14 m), normal 26.8 m (-4.4 %).
     EXPECT_LT(tip[0], 0.8 * 28.0);
@@ -173,7 +173,7 @@ TEST(DgScenes, CooksMembraneNearIncompressibleWithTheNormalLambdaPenalty) {
 
 TEST(DgScenes, DynamicSceneTakesForcesAndStreamsAClosedSurface) {
     scene::Scene s = scene::load_scene(asset("cantilever_dg_coarse.json"));
-    s.integrator.type = "implicit_euler";
+    s.integrator.type = integrate::IntegratorKind::ImplicitEuler;
     s.integrator.corotated = true;
     s.integrator.dt = 0.01;
     s.loads.forces.clear();
@@ -299,16 +299,16 @@ TEST(DgScenes, ShippedCutScenesKeepTheirInvariantsUnderDg) {
     for (const char* name : { "cut_halves", "cut_slices", "cut_progressive", "cut_pencil" }) {
         scene::Scene base = scene::load_scene(asset(std::string(name) + ".json"));
         scene::Scene dgs = base;
-        dgs.method = "dg";
+        dgs.method = scene::Method::Dg;
         dgs.basis = scene::Basis {};
         dgs.basis.degree = 1;
-        dgs.solver.type = "pcg";
-        dgs.solver.preconditioner = "lagged_cholesky";
+        dgs.solver.type = scene::SolverType::Pcg;
+        dgs.solver.preconditioner = scene::Preconditioner::LaggedCholesky;
         dgs.solver.tolerance = 1e-3;
         const CutRun dg = run_cut_scene(dgs);
         const CutRun ref = run_cut_scene(base);
         std::printf("[ info ] %s: dg completeness %.4f, %ld components (%s: %.4f, %ld)\n", name,
-            dg.after.completeness(), long(dg.after.components), base.method.c_str(),
+            dg.after.completeness(), long(dg.after.components), scene::to_string(base.method),
             ref.after.completeness(), long(ref.after.components));
         EXPECT_EQ(dg.failed + dg.rolled_back + dg.undone, 0) << name;
         EXPECT_TRUE(dg.after.surface_closed) << name;

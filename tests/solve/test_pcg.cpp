@@ -158,6 +158,33 @@ TEST(Pcg, WarmStart) {
     EXPECT_GT(from_near, 0);
 }
 
+TEST(Pcg, AGuessWorseThanZeroIsDroppedAndABetterOneKept) {
+    // Decision 0061: x0 is kept only if E(x0) = x0.A x0 / 2 - b.x0 < 0 (closer to the answer
+    // than zero in the A-norm PCG minimizes); else the solve starts from zero.
+    const SparseMatrix A = grid_matrix(10, 10, 10, kShift);
+    const Vector b = random_vector(A.rows(), 21);
+    const Vector x_ref = direct_solution(A, b);
+    PcgSolver pcg({ .relative_tolerance = 1e-8, .preconditioner = Preconditioner::Jacobi });
+    Vector x_zero = Vector::Zero(A.rows());
+    const PcgResult zero = pcg.solve(A, b, x_zero);
+    ASSERT_EQ(zero.status, SolveStatus::Ok);
+
+    // -x*: E = 3/2 b.x* > 0 (a step whose motion reversed): the same solve as from zero
+    Vector x_bad = -x_ref;
+    const PcgResult bad = pcg.solve(A, b, x_bad);
+    ASSERT_EQ(bad.status, SolveStatus::Ok);
+    EXPECT_EQ(bad.iterations, zero.iterations);
+    EXPECT_EQ((x_bad - x_zero).norm(), 0.0);
+
+    // x* / 2: E = -3/8 b.x* < 0: kept (another Krylov path, the same tolerance)
+    Vector x_half = 0.5 * x_ref;
+    const PcgResult half = pcg.solve(A, b, x_half);
+    ASSERT_EQ(half.status, SolveStatus::Ok);
+    EXPECT_GT((x_half - x_zero).norm(), 0.0);
+    EXPECT_LE(half.iterations, zero.iterations);
+    EXPECT_LE(Vector(A * x_half - b).norm(), 1e-8 * b.norm() * (1 + 1e-9));
+}
+
 TEST(Pcg, ZeroRightHandSideGivesZero) {
     const SparseMatrix A = grid_matrix(4, 4, 4, kShift);
     PcgSolver pcg;

@@ -4,11 +4,47 @@
 #include "polycut/common/error.hpp"
 #include "star_rule.hpp"
 
+#include <algorithm>
+
 namespace polycut::basis {
+
+namespace {
+/// The rules weight samples by signed volumes of (surface triangle, centroid) tets, which are
+/// all positive when the cell is star-shaped from its centroid. A cell a cut or a sliver merge
+/// left slightly non-convex (CutOptions::convex_tol) or with a face bent by snapping has a few
+/// negative ones: a negative weight makes the stiffness indefinite and a negative lumped volume
+/// a negative mass, and PCG then stalls (2,000-4,000 iterations, "not positive definite") on an
+/// organ re-cut along its cut (issue 12). Negative weights are dropped and the rest scaled to
+/// keep their sum; untouched when none is negative.
+void drop_negative(std::vector<double>& w) {
+    double total = 0, positive = 0;
+    bool negative = false;
+    for (double x : w) {
+        total += x;
+        positive += std::max(x, 0.0);
+        negative = negative || x < 0;
+    }
+    if (!negative || !(positive > 0) || !(total > 0))
+        return;
+    for (double& x : w)
+        x = std::max(x, 0.0) * (total / positive);
+}
+
+/// Lumped volume fractions (000 eq. 14) with the same repair, and each at least 1 % of the
+/// mean share, so that no node of the cell has zero or negative mass.
+VecX positive_fractions(VecX mu) {
+    const double floor = 0.01 / double(mu.size());
+    if (mu.minCoeff() >= floor)
+        return mu;
+    const double total = mu.sum();
+    mu = mu.cwiseMax(floor);
+    return mu * (total / mu.sum());
+}
+} // namespace
 
 CellIntegration MeanValueCell::integrate(MvcRule rule, int gauss_degree) const {
     CellIntegration out;
-    const VecX mu = volume_fractions();
+    const VecX mu = positive_fractions(volume_fractions());
     out.lumped_volume = mu * m_volume; // 000 eq. 18
     const bool tet = m_nodes.size() == 4 && m_triangles.size() == 4;
     if (tet) {
@@ -38,6 +74,7 @@ CellIntegration MeanValueCell::integrate(MvcRule rule, int gauss_degree) const {
             tris.push_back(t.nodes);
         detail::star_rule(m_nodes, tris, m_centroid, gauss_degree, out.points, out.weights);
     }
+    drop_negative(out.weights);
     out.gradients.resize(out.points.size());
     VecX phi;
     for (std::size_t q = 0; q < out.points.size(); ++q)

@@ -5,6 +5,7 @@
 // those loops leaves every face polygon, every cell, the volume and the surface exactly as they
 // were, and takes its three DOFs out of the system. Crack-front corners, polygon vertices and
 // T-junction corners turn in some face and stay.
+#include "polycut/geometry/polygon.hpp"
 #include "sweep.hpp"
 
 #include <algorithm>
@@ -53,8 +54,12 @@ Index remove_collinear_nodes(Editor& ed, const std::vector<Index>& cells) {
             const std::size_t k = loop.size();
             const int i = find_in(loop, n);
             const Index u = loop[(std::size_t(i) + k - 1) % k], w = loop[(std::size_t(i) + 1) % k];
+            // A face that is not planar (a snapped node kept a few micrometres off a crack's
+            // plane) keeps its nodes: dropping one moves the centre the face's volume is
+            // measured from, and the rest volume would change.
             straight = straight && k > 3
-                && inside_segment(at(m.rest, u), at(m.rest, n), at(m.rest, w), tol);
+                && inside_segment(at(m.rest, u), at(m.rest, n), at(m.rest, w), tol)
+                && geometry::planarity_error(geometry::gather(m.rest, loop)) <= tol;
             if (!straight)
                 break;
         }

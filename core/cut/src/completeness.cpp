@@ -86,6 +86,47 @@ double area_inside(const mesh::Mesh& m, const Triangle& t) {
     return area_inside(m, all, t);
 }
 
+double area_on_cut_faces(
+    const mesh::Mesh& m, std::span<const Index> cells, const Triangle& t, double tol) {
+    const Vec3 normal = (t[1] - t[0]).cross(t[2] - t[0]);
+    if (!(normal.norm() > 0))
+        return 0.0;
+    const Vec3 unit = normal.normalized();
+    const Vec3 centre = (t[0] + t[1] + t[2]) / 3.0;
+    // Per lip: the cells near a re-cut may hold one lip or both (each covers the same area).
+    double area[2] = { 0, 0 };
+    std::vector<Index> seen;
+    for (Index c : cells)
+        for (Index f : m.cells[std::size_t(c)].faces) {
+            const mesh::Face& face = m.faces[std::size_t(f)];
+            if (!face.boundary() || face.tag != mesh::FaceTag::Cut)
+                continue;
+            std::vector<Vec3> poly = geometry::gather(m.rest, face.nodes);
+            bool near = true;
+            for (const Vec3& p : poly)
+                near = near && std::abs(unit.dot(p - t[0])) <= tol;
+            if (!near || std::find(seen.begin(), seen.end(), f) != seen.end())
+                continue;
+            seen.push_back(f);
+            const double cosine = geometry::polygon_normal(poly).dot(unit);
+            // Projected onto the triangle's plane (a face-snapped cut is a surface of mesh faces
+            // beside the blade, not in its plane), then clipped by the triangle's three edge
+            // planes (a convex region: Sutherland-Hodgman keeps the area of a non-convex face).
+            for (Vec3& p : poly)
+                p -= unit.dot(p - t[0]) * unit;
+            for (int k = 0; k < 3 && poly.size() >= 3; ++k) {
+                const Vec3 e = t[std::size_t((k + 1) % 3)] - t[std::size_t(k)];
+                Vec3 out = e.cross(unit);
+                if (out.dot(centre - t[std::size_t(k)]) > 0)
+                    out = -out;
+                clip(poly, out, out.dot(t[std::size_t(k)]));
+            }
+            if (poly.size() >= 3)
+                area[cosine > 0 ? 0 : 1] += geometry::polygon_area(poly);
+        }
+    return std::max(area[0], area[1]);
+}
+
 double cut_face_area(const mesh::Mesh& m) {
     double area = 0;
     for (const mesh::Face& f : m.faces)

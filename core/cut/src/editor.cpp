@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 
 namespace polycut::cut::detail {
 
@@ -53,6 +54,7 @@ void Editor::begin(CutReport& r) {
     r = CutReport {};
     r.nodes_before = m.num_nodes();
     r.cells_before = m.num_cells();
+    r.faces_before = Index(m.faces.size());
     m_changed.assign(m.cells.size(), 0);
     m_changed_list.clear();
 }
@@ -69,6 +71,17 @@ void Editor::end() {
     r.pattern_changed = r.nodes_after != r.nodes_before || r.cells_after != r.cells_before
         || !m_changed_list.empty();
     report = nullptr;
+}
+
+void Editor::move_node(Index n, const Vec3& X) {
+    // A node this call made is new to the caller: only existing nodes are reported as moved.
+    auto& moved = report->moved_nodes;
+    if (n < report->nodes_before
+        && std::none_of(moved.begin(), moved.end(), [n](const auto& e) { return e.first == n; }))
+        moved.emplace_back(n, at(m.rest, n));
+    at(m.rest, n) = X;
+    for (Index c : at(node_cells, n))
+        touch(c);
 }
 
 void Editor::touch(Index c) {
@@ -299,22 +312,35 @@ void split_loop(const std::vector<Index>& loop, const std::vector<int>& s, std::
 }
 
 std::vector<Index> compact_faces(mesh::Mesh& m, const std::vector<char>& dead) {
-    std::vector<Index> face_map(m.faces.size(), kNone);
-    std::vector<mesh::Face> faces;
-    faces.reserve(m.faces.size());
-    for (std::size_t f = 0; f < m.faces.size(); ++f)
+    // In place from the first dead face on: a cut's merged faces are among the newest, so on an
+    // organ the faces before them (most of ~55k) keep their ids and are not moved; this was a
+    // copy of the whole face table per merging call (issue 12 item 5).
+    const std::size_t n = m.faces.size();
+    std::size_t first = 0;
+    while (first < n && !dead[first])
+        ++first;
+    std::vector<Index> face_map(n, kNone);
+    std::iota(face_map.begin(), face_map.begin() + std::ptrdiff_t(first), Index(0));
+    if (first == n)
+        return face_map;
+    std::size_t kept = first;
+    for (std::size_t f = first; f < n; ++f)
         if (!dead[f]) {
-            face_map[f] = Index(faces.size());
-            faces.push_back(std::move(m.faces[f]));
+            face_map[f] = Index(kept);
+            if (kept != f)
+                m.faces[kept] = std::move(m.faces[f]);
+            ++kept;
         }
-    for (mesh::Face& face : faces)
-        if (face.parent != kNone)
+    m.faces.resize(kept);
+    const Index moved = Index(first); // ids below it are unchanged
+    for (mesh::Face& face : m.faces)
+        if (face.parent >= moved)
             face.parent
                 = face.parent < Index(face_map.size()) ? face_map[std::size_t(face.parent)] : kNone;
     for (mesh::Cell& cell : m.cells)
         for (Index& f : cell.faces)
-            f = face_map[std::size_t(f)];
-    m.faces = std::move(faces);
+            if (f >= moved)
+                f = face_map[std::size_t(f)];
     return face_map;
 }
 

@@ -53,6 +53,9 @@ public:
     Index split_face(Index f, std::vector<Index> keep, std::vector<Index> other);
     /// Appends a face and registers it with its owner and neighbour.
     Index add_face(mesh::Face face);
+    /// Moves node n to rest position X [m] and touches its cells; the first rest position of
+    /// the call goes to CutReport::moved_nodes (the undo and the state follow it).
+    void move_node(Index n, const Vec3& X);
     /// Replaces the node list of cell c by the union of its face loops and updates adjacency.
     void refresh_cell_nodes(Index c);
     /// Marks cell c changed (invalidates caches).

@@ -10,6 +10,44 @@
 
 namespace polycut::cut {
 
+double convexity_violation(const mesh::Mesh& m, Index c) {
+    geometry::Aabb box;
+    for (Index n : m.cells[std::size_t(c)].nodes)
+        box.extend(m.rest[std::size_t(n)]);
+    const double diag = box.diagonal();
+    double worst = 0;
+    for (const auto& loop : m.cell_face_loops(c)) {
+        const auto pts = geometry::gather(m.rest, loop);
+        const Vec3 nrm = geometry::polygon_normal(pts);
+        const Vec3 ctr = geometry::polygon_centroid(pts);
+        for (Index n : m.cells[std::size_t(c)].nodes)
+            worst = std::max(worst, (m.rest[std::size_t(n)] - ctr).dot(nrm));
+    }
+    return diag > 0 ? worst / diag : 0;
+}
+
+std::string open_cell_problem(const mesh::Mesh& m, Index c) {
+    std::vector<std::pair<Index, Index>> edges;
+    const auto loops = m.cell_face_loops(c);
+    if (loops.size() < 4)
+        return "only " + std::to_string(loops.size()) + " faces";
+    for (const auto& loop : loops)
+        for (std::size_t k = 0; k < loop.size(); ++k)
+            edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
+    std::sort(edges.begin(), edges.end());
+    const auto edge = [](const std::pair<Index, Index>& e) {
+        return "edge (" + std::to_string(e.first) + ", " + std::to_string(e.second) + ")";
+    };
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (i + 1 < edges.size() && edges[i] == edges[i + 1])
+            return edge(edges[i]) + " is used twice in the same direction (a flipped face)";
+        if (!std::binary_search(
+                edges.begin(), edges.end(), std::make_pair(edges[i].second, edges[i].first)))
+            return edge(edges[i]) + " has no opposite edge (the cell is open)";
+    }
+    return {};
+}
+
 CutInvariants check_cut_invariants(
     const mesh::Mesh& m, double volume_before, const InvariantOptions& opt) {
     CutInvariants r;
@@ -37,19 +75,7 @@ CutInvariants check_cut_invariants(
             ++r.nonpositive_cells;
             fail("cell " + std::to_string(c) + " has volume " + std::to_string(v));
         }
-        geometry::Aabb box;
-        for (Index n : m.cells[std::size_t(c)].nodes)
-            box.extend(m.rest[std::size_t(n)]);
-        const double diag = box.diagonal();
-        double worst = 0;
-        for (const auto& loop : loops) {
-            const auto pts = geometry::gather(m.rest, loop);
-            const Vec3 nrm = geometry::polygon_normal(pts);
-            const Vec3 ctr = geometry::polygon_centroid(pts);
-            for (Index n : m.cells[std::size_t(c)].nodes)
-                worst = std::max(worst, (m.rest[std::size_t(n)] - ctr).dot(nrm));
-        }
-        worst = diag > 0 ? worst / diag : 0;
+        const double worst = convexity_violation(m, c);
         r.max_convexity_violation = std::max(r.max_convexity_violation, worst);
         if (worst > opt.convex_tol) {
             ++r.nonconvex_cells;

@@ -168,7 +168,18 @@ void compact_merged(Editor& ed, const std::vector<Index>& merged_into) {
         face.parent = survivor(face.parent);
     const std::vector<Index> face_map = compact_faces(m, dead);
     CutReport& r = *ed.report;
+    // the map of the faces from before the call (a second compaction in one call composes)
+    const bool first = !r.faces_renumbered;
     r.faces_renumbered = true;
+    if (first) {
+        r.face_map.assign(face_map.begin(),
+            face_map.begin()
+                + std::min<std::ptrdiff_t>(r.faces_before, std::ptrdiff_t(face_map.size())));
+    } else {
+        for (Index& f : r.face_map)
+            if (f != kNone)
+                f = std::size_t(f) < face_map.size() ? face_map[std::size_t(f)] : kNone;
+    }
     std::vector<Index> cut_faces;
     for (Index f : r.cut_faces)
         if (const Index g = survivor(f);

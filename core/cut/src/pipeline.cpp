@@ -5,6 +5,7 @@
 #include "polycut/common/stats.hpp"
 #include "polycut/cut/completeness.hpp"
 #include "polycut/cut/cutter.hpp"
+#include "polycut/cut/invariants.hpp"
 #include "polycut/cut/world_to_rest.hpp"
 #include "polycut/geometry/affine_fit.hpp"
 #include "stroke_snap.hpp"
@@ -15,11 +16,33 @@
 #include <set>
 
 namespace polycut::cut {
+
 namespace {
+
+/// Mechanical sanity after the cutter (issue 12 item 3): each cell it changed must be a closed,
+/// consistently oriented polyhedron. A geometric corner case the cutter gets wrong (a fuzz input
+/// left a flipped face in a re-cut hex grid) becomes a failed cut, undone, instead of a model
+/// built on a broken cell. O(cells changed).
+void require_closed_cells(const mesh::Mesh& mesh, const CutReport& report) {
+    for (Index c : report.changed_cells) {
+        if (c < 0 || c >= mesh.num_cells())
+            continue;
+        if (const std::string why = open_cell_problem(mesh, c); !why.empty())
+            throw Error(
+                "cut", "cell " + std::to_string(c) + " is not closed after the cut: " + why);
+    }
+}
+
 geometry::Aabb triangle_box(const Triangle& t) {
     geometry::Aabb b;
     for (const Vec3& p : t)
         b.extend(p);
+    return b;
+}
+
+geometry::Aabb grown(geometry::Aabb b, double margin) {
+    b.extend(b.lo - Vec3::Constant(margin));
+    b.extend(b.hi + Vec3::Constant(margin));
     return b;
 }
 
@@ -54,8 +77,16 @@ struct StrokeCorner {
 // kStrokePlane of the predecessor's rest plane (or of its world plane) go onto its rest plane.
 constexpr double kStrokePlane = 0.05;
 // A blade within kFacePlane of the plane of a face of the cells it meets goes into that plane
-// (detail::snap_to_face_plane, docs/decisions/0005).
+// (detail::snap_to_face_plane, docs/decisions/0005); the faces of an earlier cut whose nodes lie
+// within it of a sweep triangle's plane count as already cut under the triangle (the cutter's
+// snapped nodes sit up to ~0.01 mm off its plane).
 constexpr double kFacePlane = 0.02;
+// A blade nearly parallel to the faces of an earlier cut and within kRecutPlane of their plane
+// follows that cut (the re-cut rule of detail::snap_to_face_plane, docs/decisions/0054).
+constexpr double kRecutPlane = 0.25;
+// A face-snapped cut runs along mesh faces within about one mean cell size (~0.6 of a tet edge)
+// of the blade's plane: its lips there count as the part of a re-cut already cut.
+constexpr double kSnapBeside = 1.0;
 // A new corner within kEdgeSnap of a node of the uncut mesh or of the chord its plane cuts from a
 // face goes onto it (detail::snap_corner_to_features, docs/decisions/0007; cell splitting only).
 constexpr double kEdgeSnap = 0.05;
@@ -91,6 +122,10 @@ struct CutPipeline::Impl {
     std::unique_ptr<WorldToRest> world_grid;
     /// Uniform grid over the uncut mesh at rest (built once).
     std::unique_ptr<WorldToRest> rest_grid;
+    /// The current stroke began on the plane of an earlier cut (it follows that cut).
+    bool following = false;
+    /// Per mapped rest triangle of the last map(): its area on earlier Cut faces [m^2].
+    std::vector<double> overlap;
     /// The mesh before the last call that changed it (undo()).
     detail::UndoJournal journal;
 
@@ -161,6 +196,24 @@ struct CutPipeline::Impl {
         return true;
     }
 
+    /// Tets (of `near`) whose world positions have turned them inside out, for the call's
+    /// CutResult::inverted_cells. Polyhedral cells are not checked (an affine fit per cell would
+    /// cost more than the mapping).
+    std::vector<Index> inverted;
+    void note_inverted(const std::vector<Index>& near, std::span<const Vec3> positions) {
+        for (Index c : near) {
+            const auto& n = mesh.cells[std::size_t(c)].nodes;
+            if (n.size() != 4)
+                continue;
+            const auto x = [&](std::size_t k) { return positions[std::size_t(n[k])]; };
+            const auto X = [&](std::size_t k) { return mesh.rest[std::size_t(n[k])]; };
+            const double world = (x(1) - x(0)).cross(x(2) - x(0)).dot(x(3) - x(0));
+            const double rest = (X(1) - X(0)).cross(X(2) - X(0)).dot(X(3) - X(0));
+            if (world * rest < 0)
+                inverted.push_back(c);
+        }
+    }
+
     /// World to rest (DESIGN.md sec. 3): each triangle through ONE least-squares affine fit of
     /// the nodes of the cells whose deformed bounds it touches. WorldToRest::map_triangle maps
     /// each corner through its own cell instead; for sweeps whose corners lie far outside the
@@ -179,6 +232,7 @@ struct CutPipeline::Impl {
         const double same = 1e-9 * L;
         bool located = false;
         std::vector<Triangle> rest;
+        overlap.clear();
         for (std::size_t t = 0; t < world.size(); ++t) {
             const Triangle& tri = world[t];
             // A sliver of a sweep (the blade barely moved between two samples) cuts nothing at
@@ -189,6 +243,7 @@ struct CutPipeline::Impl {
                 continue;
             }
             Triangle r;
+            bool mapped = false; // a corner of it went through the world grid's fit
             std::array<bool, 3> known {};
             const StrokeCorner* previous = nullptr;
             for (std::size_t k = 0; k < 3; ++k)
@@ -204,11 +259,13 @@ struct CutPipeline::Impl {
                     // Only the cells around this call's triangles are indexed.
                     geometry::Aabb region;
                     for (std::size_t u = t; u < world.size(); ++u)
-                        region.extend(triangle_box(world[u]));
+                        region.extend(grown(triangle_box(world[u]), cell_size));
                     world_grid->refit_near(positions, region);
                     located = true;
                 }
                 const std::vector<Index> near = world_grid->candidates(triangle_box(tri));
+                mapped = true;
+                note_inverted(near, positions);
                 std::set<Index> nodes;
                 for (Index c : near)
                     nodes.insert(mesh.cells[std::size_t(c)].nodes.begin(),
@@ -245,7 +302,13 @@ struct CutPipeline::Impl {
                                 r[k] -= d * previous->normal;
                         }
                     }
-                detail::snap_to_face_plane(mesh, near, r, known, kFacePlane * cell_size, same);
+                // The re-cut rule at the stroke's first triangle only: later corners follow the
+                // stroke's plane, and the stroke's own cut faces must not pull them back.
+                const bool first = !known[0] && !known[1] && !known[2];
+                const bool on_cut = detail::snap_to_face_plane(mesh, near, r, known,
+                    kFacePlane * cell_size, same, first ? kRecutPlane * cell_size : 0.0, L);
+                if (first)
+                    following = on_cut;
                 // Cell splitting only: face snapping moves nodes onto the blade itself.
                 const Vec3 rn = (r[1] - r[0]).cross(r[2] - r[0]).normalized();
                 for (std::size_t k = 0; k < 3 && !snap(); ++k) {
@@ -272,6 +335,14 @@ struct CutPipeline::Impl {
                 if (!known[k])
                     corners.push_back(
                         { tri[k], r[k], n, n.dot(r[k]), world_n, world_n.dot(tri[k]) });
+            // The part already cut (a stroke along an earlier cut) is not swept again; the cells
+            // around it from a cell farther out: both lips, however far the body opened them.
+            double on_cut = 0;
+            if (following && mapped)
+                on_cut = area_on_cut_faces(mesh,
+                    world_grid->candidates(grown(triangle_box(tri), cell_size)), r,
+                    (snap() ? kSnapBeside : kFacePlane) * cell_size);
+            overlap.push_back(on_cut);
             rest.push_back(r);
             source.push_back(t);
         }
@@ -315,11 +386,16 @@ std::uint64_t CutPipeline::whole_mesh_copies() const {
     return m_impl->journal.whole_copies();
 }
 
+std::uint64_t CutPipeline::mirror_face_moves() const {
+    return m_impl->journal.face_moves();
+}
+
 void CutPipeline::forget() {
     Impl& s = *m_impl;
     s.splitter.reset();
     s.snapper.reset();
     s.corners.clear();
+    s.following = false;
     s.world_grid.reset();
 }
 
@@ -337,7 +413,11 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
     const std::span<const Triangle> now
         = max_triangles > 0 && world.size() > max_triangles ? world.first(max_triangles) : world;
     std::vector<std::size_t> source;
+    s.inverted.clear();
     const std::vector<Triangle> rest = s.map(now, positions, source, result);
+    std::sort(s.inverted.begin(), s.inverted.end());
+    result.inverted_cells
+        = std::size_t(std::unique(s.inverted.begin(), s.inverted.end()) - s.inverted.begin());
     result.consumed = now.size();
     if (now.size() < world.size()) {
         result.status = CutStatus::Deferred;
@@ -345,6 +425,16 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
     }
     if (rest.empty())
         return result;
+    // Rest area the first `count` triangles sweep inside the uncut tissue, less what lies on
+    // earlier cuts; a failed call reports it too (the blade swept it; get_stats counts it).
+    const auto swept = [&](std::size_t count) {
+        double area = 0;
+        for (std::size_t i = 0; i < count; ++i)
+            area += std::max(0.0,
+                area_inside(s.uncut, s.rest_cells().candidates(triangle_box(rest[i])), rest[i])
+                    - s.overlap[i]);
+        return area;
+    };
     // The previous call is accepted now: the undo mirror takes what it changed.
     s.journal.commit(s.mesh);
     try {
@@ -355,9 +445,11 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
                                  : s.splitter->cut(rest, max_changed_cells);
         s.journal.record(result.report);
         s.cells_changed(result.report);
+        require_closed_cells(s.mesh, result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();
+        result.swept_area = swept(rest.size());
         return result;
     }
     const std::size_t applied = std::size_t(result.report.triangles);
@@ -375,15 +467,14 @@ CutResult CutPipeline::cut(std::span<const Triangle> world, std::span<const Vec3
             else
                 ++result.skipped;
     }
-    for (std::size_t i = 0; i < applied; ++i)
-        result.swept_area
-            += area_inside(s.uncut, s.rest_cells().candidates(triangle_box(rest[i])), rest[i]);
+    result.swept_area = swept(applied);
     return result;
 }
 
 CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
     Impl& s = *m_impl;
     s.corners.clear();
+    s.following = false;
     CutResult result;
     if (!s.snapper)
         return result;
@@ -394,6 +485,7 @@ CutResult CutPipeline::end_stroke(const std::function<void()>& before_change) {
         result.report = s.snapper->finish_sweep();
         s.journal.record(result.report);
         s.cells_changed(result.report);
+        require_closed_cells(s.mesh, result.report);
     } catch (const std::exception& e) {
         result.status = CutStatus::Failed;
         result.reason = e.what();

@@ -1,6 +1,10 @@
 #include "plane_split.hpp"
 
+#include "polycut/cut/invariants.hpp"
+#include "polycut/geometry/polygon.hpp"
+
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 
@@ -15,6 +19,72 @@ int PlaneClassifier::sign(Index n) {
     const int s = d > eps ? 1 : (d < -eps ? -1 : 0);
     m_sign.emplace(n, s);
     return s;
+}
+
+namespace {
+/// The unit direction node n moves in to reach the cut plane without changing the rest volume:
+/// `want` (the plane's normal) for an interior node; `want` projected into the skin where the
+/// node's boundary faces are coplanar; along the crease where they lie in two planes; zero (no
+/// move) at a corner or where the projection vanishes.
+Vec3 volume_keeping_direction(Editor& ed, Index n, const Vec3& want) {
+    constexpr double kSamePlane = 1e-6; // |a x b| of unit normals: the same skin plane
+    std::vector<Vec3> normals;
+    for (Index c : at(ed.node_cells, n))
+        for (Index f : at(ed.m.cells, c).faces) {
+            const mesh::Face& face = at(ed.m.faces, f);
+            if (face.boundary() && find_in(face.nodes, n) >= 0)
+                normals.push_back(
+                    geometry::polygon_normal(geometry::gather(ed.m.rest, face.nodes)).normalized());
+        }
+    if (normals.empty())
+        return want;
+    const Vec3 a = normals.front();
+    Vec3 t = want - want.dot(a) * a; // within the first skin plane
+    for (const Vec3& b : normals)
+        if (a.cross(b).norm() > kSamePlane) {
+            t = a.cross(b); // a crease: along it
+            break;
+        }
+    if (t.norm() < 1e-12)
+        return Vec3::Zero();
+    t.normalize();
+    for (const Vec3& b : normals)
+        if (std::abs(b.dot(t)) > kSamePlane)
+            return Vec3::Zero(); // a corner of the skin
+    return t;
+}
+} // namespace
+
+bool PlaneClassifier::project_onto_plane(Index n) {
+    if (sign(n) != 0)
+        return false;
+    const double d = distance(n);
+    if (std::abs(d) <= 1e-12 * m_ed.cell_size())
+        return false; // on the plane to round-off already
+    // Skin nodes slide in the skin (the rest volume stays), at most twice as far as the plane is.
+    const Vec3 t = volume_keeping_direction(m_ed, n, m_plane.normal);
+    const double along = t.dot(m_plane.normal);
+    if (std::abs(along) < 0.5)
+        return false;
+    const Vec3 old_rest = at(m_ed.m.rest, n);
+    const Vec3 target = old_rest - (d / along) * t;
+    // The faces around n tilt by the move: keep it only where no cell around n gets more than
+    // kMoveConvexity of its diagonal out of convex (later splits make smaller cells of the
+    // tilted faces, and the violation grows with 1 / their size).
+    constexpr double kMoveConvexity = 1e-3;
+    const auto& cells = at(m_ed.node_cells, n);
+    std::vector<double> before(cells.size());
+    for (std::size_t k = 0; k < cells.size(); ++k)
+        before[k] = convexity_violation(m_ed.m, cells[k]);
+    at(m_ed.m.rest, n) = target;
+    bool keeps_convex = true;
+    for (std::size_t k = 0; k < cells.size() && keeps_convex; ++k)
+        keeps_convex = convexity_violation(m_ed.m, cells[k]) <= std::max(before[k], kMoveConvexity);
+    at(m_ed.m.rest, n) = old_rest;
+    if (!keeps_convex)
+        return false;
+    m_ed.move_node(n, target);
+    return true;
 }
 
 std::vector<int> PlaneClassifier::signs(const std::vector<Index>& loop) {

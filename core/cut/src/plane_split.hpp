@@ -26,6 +26,13 @@ public:
     void set_zero(Index n) { m_sign[n] = 0; }
     /// Signs of a loop.
     std::vector<int> signs(const std::vector<Index>& loop);
+    /// Moves node n, classified on the plane (sign 0) but off it by up to its snapping
+    /// distance, onto the plane in rest space (decision 0057), so that the next triangle of a
+    /// stroke in the same plane finds it there whatever its snapping distance has become.
+    /// Interior nodes move along the plane's normal; skin nodes slide within a flat skin or
+    /// along a crease (the rest volume stays), never at a corner. A move that would take a cell
+    /// around n out of convex is not made. Returns whether n moved.
+    bool project_onto_plane(Index n);
     /// Inserts edge nodes where a loop goes from + to - directly (every face around the edge
     /// gets them). `parent_cell` is recorded as the origin.
     void split_crossing_edges(Index face, Index parent_cell);

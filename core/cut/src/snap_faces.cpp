@@ -4,7 +4,6 @@
 #include "checks.hpp"
 #include "snap_model.hpp"
 
-#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -24,9 +23,18 @@ void Model::load_label(Index c) {
 }
 
 void Model::load_labels() {
-    labels.resize(s.m.cells.size());
-    for (Index c = 0; c < s.m.num_cells(); ++c)
-        load_label(c);
+    // What load_label() gives every tet, from one pass over the face table: only boundary faces
+    // (each of its owner alone) carry a label other than kInterior. A pass per tet over its faces
+    // chased a pointer per face (~9 ms on a 26k-tet organ, at every degeneracy removal).
+    labels.assign(s.m.cells.size(), Labels { kInterior, kInterior, kInterior, kInterior });
+    for (const mesh::Face& face : s.m.faces) {
+        if (!face.boundary() || face.owner == kNone)
+            continue;
+        const auto& nodes = at(s.m.cells, face.owner).nodes;
+        for (std::size_t k = 0; k < 4; ++k)
+            if (std::find(face.nodes.begin(), face.nodes.end(), nodes[k]) == face.nodes.end())
+                at(labels, face.owner)[k] = std::uint8_t(face.tag);
+    }
 }
 
 void Model::load_labels(const std::vector<Index>& cells) {
@@ -312,13 +320,7 @@ std::vector<Index> rebuild_faces(Model& md) {
         if (md.alive(c) && at(md.labels, c)[0] == kUnloaded)
             md.load_label(c);
     // Pending faces survive by their node sets.
-    std::vector<std::array<Index, 3>> pend;
-    for (Index f : s.pending) {
-        const auto& n = at(m.faces, f).nodes;
-        std::array<Index, 3> k { n[0], n[1], n[2] };
-        std::sort(k.begin(), k.end());
-        pend.push_back(k);
-    }
+    std::vector<Key> pend = pending_keys(s);
     // Compact cells.
     s.cell_volume.resize(m.cells.size(), 0.0); // appended tets are changed: end() measures them
     s.invalidate_grid();
@@ -358,10 +360,17 @@ std::vector<Index> rebuild_faces(Model& md) {
     s.changed.resize(std::size_t(nc));
     s.box.assign(std::size_t(nc), {});
     s.box_ok.assign(std::size_t(nc), 0);
-    // Compact nodes.
+    // Compact the nodes this call made and left unused. A node that existed before the call
+    // keeps its id even when no tet uses it any more (a degenerate tet's collapsed node): the
+    // caller's model takes such nodes out of its unknowns, and without a renumbering it updates
+    // only the cells the call changed instead of rebuilding itself (a whole model per
+    // degeneracy removal was ~60-80 ms on the 5k organ, issue 12 item 5).
     std::vector<char> used(m.rest.size(), 0);
     for (const auto& cell : m.cells)
         for (Index n : cell.nodes)
+            at(used, n) = 1;
+    for (Index n = 0; n < m.num_nodes(); ++n)
+        if (at(s.node_old, n) != kNone)
             at(used, n) = 1;
     std::vector<Index> nmap(m.rest.size(), kNone);
     Index nn = 0;
@@ -397,73 +406,53 @@ std::vector<Index> rebuild_faces(Model& md) {
     for (auto& k : pend)
         for (Index& n : k)
             n = at(nmap, n);
-    // Faces.
+    // Faces. The old faces' node vectors are reused: a fresh allocation per face cost more
+    // than the matching.
+    std::vector<mesh::Face> old = std::move(m.faces);
     m.faces.clear();
-    auto hash = [](std::array<Index, 3> k) {
-        return (std::uint64_t(std::uint32_t(k[0])) * 0x9E3779B97F4A7C15ull)
-            ^ (std::uint64_t(std::uint32_t(k[1])) << 21)
-            ^ (std::uint64_t(std::uint32_t(k[2])) << 42) ^ std::uint64_t(std::uint32_t(k[2]) >> 22);
+    m.faces.reserve(old.size() + 64);
+    std::size_t reused = 0;
+    auto add_face = [&](const std::array<Index, 3>& loop, Index owner, mesh::FaceTag tag) {
+        mesh::Face f;
+        if (reused < old.size())
+            f.nodes = std::move(old[reused++].nodes);
+        f.nodes.assign(loop.begin(), loop.end());
+        f.owner = owner;
+        f.tag = tag;
+        at(m.cells, owner).faces.push_back(m.num_faces());
+        m.faces.push_back(std::move(f));
     };
-    std::multimap<std::uint64_t, Index> byhash;
+    // Interior faces waiting for their other tet, by node set.
+    std::unordered_map<Key, Index, KeyHash> open;
+    open.reserve(2 * m.cells.size());
     for (Index c = 0; c < m.num_cells(); ++c) {
         auto& cell = at(m.cells, c);
         cell.faces.clear();
         for (std::size_t k = 0; k < 4; ++k) {
             const auto& lf = mesh::kTetFaces[std::size_t(kFaceOpposite[k])];
-            std::vector<Index> loop { cell.nodes[std::size_t(lf[0])],
+            const std::array<Index, 3> loop { cell.nodes[std::size_t(lf[0])],
                 cell.nodes[std::size_t(lf[1])], cell.nodes[std::size_t(lf[2])] };
-            std::array<Index, 3> key { loop[0], loop[1], loop[2] };
+            std::array<Index, 3> key = loop;
             std::sort(key.begin(), key.end());
             const std::uint8_t l = at(md.labels, c)[k];
-            if (l == kInterior) {
-                const std::uint64_t h = hash(key);
-                Index match = kNone;
-                for (auto [it, end] = byhash.equal_range(h); it != end; ++it) {
-                    auto k2 = at(m.faces, it->second).nodes;
-                    std::sort(k2.begin(), k2.end());
-                    if (std::equal(k2.begin(), k2.end(), key.begin())) {
-                        match = it->second;
-                        byhash.erase(it);
-                        break;
-                    }
-                }
-                if (match != kNone) {
-                    at(m.faces, match).neighbour = c;
-                    at(m.faces, match).tag = mesh::FaceTag::Interior;
-                    cell.faces.push_back(match);
-                    continue;
-                }
-                mesh::Face f;
-                f.nodes = std::move(loop);
-                f.owner = c;
-                f.tag = mesh::FaceTag::Cut; // becomes Interior when matched
-                byhash.emplace(h, m.num_faces());
-                cell.faces.push_back(m.num_faces());
-                m.faces.push_back(std::move(f));
-            } else {
-                mesh::Face f;
-                f.nodes = std::move(loop);
-                f.owner = c;
-                f.tag = mesh::FaceTag(l);
-                cell.faces.push_back(m.num_faces());
-                m.faces.push_back(std::move(f));
+            if (l != kInterior) {
+                add_face(loop, c, mesh::FaceTag(l));
+                continue;
             }
+            if (auto it = open.find(key); it != open.end()) {
+                const Index match = it->second;
+                open.erase(it);
+                at(m.faces, match).neighbour = c;
+                at(m.faces, match).tag = mesh::FaceTag::Interior;
+                cell.faces.push_back(match);
+                continue;
+            }
+            open.emplace(key, m.num_faces());
+            add_face(loop, c, mesh::FaceTag::Cut); // becomes Interior when matched
         }
     }
     s.node_cells = m.node_cells();
-    s.pending.clear();
-    for (const auto& k : pend) {
-        if (std::find(k.begin(), k.end(), kNone) != k.end())
-            continue;
-        for (Index c : at(s.node_cells, k[0]))
-            for (Index f : at(m.cells, c).faces) {
-                auto k2 = at(m.faces, f).nodes;
-                std::sort(k2.begin(), k2.end());
-                if (std::equal(k2.begin(), k2.end(), k.begin()) && !at(m.faces, f).boundary()
-                    && std::find(s.pending.begin(), s.pending.end(), f) == s.pending.end())
-                    s.pending.push_back(f);
-            }
-    }
+    find_pending(s, pend);
     s.compacted = true;
     return nmap;
 }

@@ -16,8 +16,22 @@ namespace polycut::cut::detail {
 /// the cells `near`, the corners not yet fixed by earlier triangles (`known` false) are
 /// projected onto the closest such plane, provided the fixed ones already lie in it (within
 /// `exact` [m]). One outcome per configuration, no jitter and no retry.
-void snap_to_face_plane(const mesh::Mesh& m, const std::vector<Index>& near, std::array<Vec3, 3>& r,
-    const std::array<bool, 3>& known, double tol, double exact);
+///
+/// The re-cut rule (docs/decisions/0054): the faces an earlier cut made (tag Cut) attract from
+/// farther, `recut_tol` [m], when the triangle is within 10 degrees of parallel to them and its
+/// plane meets theirs within `reach` [m] (the tissue's size): it crosses them, or converges on
+/// them at a shallow angle. A
+/// second stroke along the first one maps to rest space through the opened, deformed body and
+/// arrives at a slightly different plane, 0.05-0.5 mm from the first cut and a fraction of a
+/// degree off it; cut there, it carved wedges a few micrometres to a tenth of a millimetre thick
+/// between the two cuts, whose stiffness stalled the solver and exploded. Within `recut_tol` the
+/// blade follows the existing cut instead (cutting where it is already cut does nothing) and
+/// extends it where it goes beyond. A blade parallel to an earlier cut, a slice (000 Fig. 9),
+/// keeps its plane however thin the slice. Pass recut_tol = 0 to disable the rule (it applies to
+/// a stroke's first triangle; later ones follow it by the stroke-plane rule). Returns true when
+/// the triangle went onto the plane of a Cut face (by either rule).
+bool snap_to_face_plane(const mesh::Mesh& m, const std::vector<Index>& near, std::array<Vec3, 3>& r,
+    const std::array<bool, 3>& known, double tol, double exact, double recut_tol, double reach);
 
 /// The snapping rule for the blade's edges (issue 12 item 2, docs/decisions/0007): a new corner
 /// `x` of a rest sweep triangle with unit normal `n` and offset `d0` that lies within `tol` [m]

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -41,10 +42,27 @@ void Mirror::record(const CutReport& r) {
         return;
     m_pending = true;
     // Renumbering calls: ids in the report are after a compaction of cells, faces or nodes, so
-    // every later element may have moved (face parents too).
-    if (r.faces_renumbered || !r.cell_map.empty() || !r.node_map.empty() || r.slivers_merged > 0
-        || r.cut_faces_merged > 0 || !r.removed_cells.empty() || !r.removed_nodes.empty())
+    // every later element may have moved (face parents too). A compaction of merged cut faces
+    // alone (the splitting cutter's every call) carries its face map: the copy's faces move
+    // along it at the next sync, O(faces) moves and integer rewrites instead of a deep copy of
+    // the whole mesh (~4.5 ms per tick on the 5k organ).
+    const bool faces_only = r.faces_renumbered && !r.face_map.empty()
+        && r.face_map.size() == std::size_t(r.faces_before) && r.cell_map.empty()
+        && r.node_map.empty() && r.slivers_merged == 0 && r.removed_cells.empty()
+        && r.removed_nodes.empty();
+    if (faces_only && !m_whole_pending) {
+        if (m_face_map.empty()) {
+            m_face_map.resize(m_mesh.faces.size());
+            std::iota(m_face_map.begin(), m_face_map.end(), Index(0));
+        }
+        for (Index& f : m_face_map)
+            if (f != kNone)
+                f = std::size_t(f) < r.face_map.size() ? r.face_map[std::size_t(f)] : kNone;
+    } else if (r.faces_renumbered || !r.cell_map.empty() || !r.node_map.empty()
+        || r.slivers_merged > 0 || r.cut_faces_merged > 0 || !r.removed_cells.empty()
+        || !r.removed_nodes.empty()) {
         m_whole_pending = true; // (a mesh that shrank is copied whole by sync() too)
+    }
     if (m_whole_pending)
         return;
     m_cells.insert(m_cells.end(), r.changed_cells.begin(), r.changed_cells.end());
@@ -55,12 +73,42 @@ void Mirror::record(const CutReport& r) {
 bool Mirror::sync(const mesh::Mesh& mesh) {
     // Lists from calls later undone are harmless: copying an element that did not change (or
     // changed back) copies the value it has.
-    const bool whole = m_whole_pending || mesh.faces.size() < m_mesh.faces.size()
+    const bool moved_faces = !m_face_map.empty();
+    const bool whole = m_whole_pending || (!moved_faces && mesh.faces.size() < m_mesh.faces.size())
         || mesh.cells.size() < m_mesh.cells.size() || mesh.rest.size() < m_mesh.rest.size();
     if (whole) {
         assign_elementwise(m_mesh, mesh);
     } else {
-        const std::size_t f0 = m_mesh.faces.size();
+        std::size_t f0 = m_mesh.faces.size();
+        if (moved_faces) {
+            // Compactions keep the order, so a face only moves down: in place, ascending. The
+            // places no old face lands on hold faces the calls appended (copied below with the
+            // faces of the changed cells); parents follow the mesh's (a merged-away parent was
+            // replaced by its survivor).
+            std::vector<char> landed(mesh.faces.size(), 0);
+            for (std::size_t f = 0; f < f0; ++f) {
+                const Index to = m_face_map[f];
+                if (to == kNone || std::size_t(to) >= mesh.faces.size())
+                    continue;
+                if (std::size_t(to) != f)
+                    m_mesh.faces[std::size_t(to)] = std::move(m_mesh.faces[f]);
+                landed[std::size_t(to)] = 1;
+            }
+            if (m_mesh.faces.capacity() < mesh.faces.size())
+                m_mesh.faces.reserve(mesh.faces.size() + mesh.faces.size() / 8 + 64);
+            m_mesh.faces.resize(mesh.faces.size());
+            for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+                if (!landed[f])
+                    m_mesh.faces[f] = mesh.faces[f];
+                else
+                    m_mesh.faces[f].parent = mesh.faces[f].parent;
+            }
+            for (mesh::Cell& cell : m_mesh.cells)
+                for (Index& f : cell.faces)
+                    if (std::size_t(f) < m_face_map.size())
+                        f = m_face_map[std::size_t(f)];
+            f0 = mesh.faces.size(); // every face is in place now; changed cells' ones below
+        }
         grow_from(m_mesh.rest, mesh.rest, m_mesh.rest.size());
         grow_from(m_mesh.faces, mesh.faces, f0);
         grow_from(m_mesh.cells, mesh.cells, m_mesh.cells.size());
@@ -82,6 +130,7 @@ bool Mirror::sync(const mesh::Mesh& mesh) {
     m_pending = m_whole_pending = false;
     m_cells.clear();
     m_nodes.clear();
+    m_face_map.clear();
     return whole;
 }
 
@@ -94,6 +143,7 @@ void Mirror::clear() {
     m_pending = m_whole_pending = false;
     m_cells.clear();
     m_nodes.clear();
+    m_face_map.clear();
 }
 
 UndoJournal::UndoJournal(const mesh::Mesh& mesh)
@@ -109,8 +159,11 @@ void UndoJournal::record(const CutReport& r) {
 void UndoJournal::sync(Mirror& mirror, const mesh::Mesh& mesh) {
     if (!mirror.pending())
         return;
+    const bool moves = mirror.moves_faces();
     if (mirror.sync(mesh))
         ++m_whole;
+    else if (moves)
+        ++m_face_moves;
     if (m_check)
         require_equal_meshes(mirror.mesh(), mesh);
 }

@@ -31,11 +31,16 @@ public:
     void clear();
     const mesh::Mesh& mesh() const { return m_mesh; }
     bool pending() const { return m_pending; }
+    /// The next sync moves the copy's faces along recorded compactions (not a whole copy).
+    bool moves_faces() const { return !m_face_map.empty() && !m_whole_pending; }
 
 private:
     mesh::Mesh m_mesh;
     bool m_pending = false;
     bool m_whole_pending = false; ///< a recorded call renumbered: copy everything
+    /// The recorded calls compacted faces only (CutReport::face_map): the copy's face id ->
+    /// the mesh's (kNone: gone), composed over the calls; empty: ids unchanged.
+    std::vector<Index> m_face_map;
     std::vector<Index> m_cells; ///< changed cells (ids after the calls)
     std::vector<Index> m_nodes; ///< existing nodes the calls moved
 };
@@ -65,6 +70,8 @@ public:
 
     /// Mirror syncs that copied the whole mesh so far.
     std::uint64_t whole_copies() const { return m_whole; }
+    /// Mirror syncs that moved faces along a compaction instead (Mirror::moves_faces).
+    std::uint64_t face_moves() const { return m_face_moves; }
 
 private:
     void sync(Mirror& mirror, const mesh::Mesh& mesh);
@@ -72,6 +79,7 @@ private:
     Mirror m_accepted; ///< at the last accept()
     int m_calls = 0; ///< calls since the last accept()
     std::uint64_t m_whole = 0;
+    std::uint64_t m_face_moves = 0;
     bool m_check = false;
 };
 

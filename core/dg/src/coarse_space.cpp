@@ -11,7 +11,7 @@
 
 namespace polycut::dg {
 
-solve::SparseMatrix DgModel::coarse_space() const {
+SparseMatrix DgModel::coarse_space() const {
     const mesh::Mesh& m = *m_mesh;
     // Columns: 3 per node that some cell uses (floating nodes left by cuts get none).
     std::vector<Index> column(std::size_t(m.num_nodes()), kNone);
@@ -39,7 +39,7 @@ solve::SparseMatrix DgModel::coarse_space() const {
                     triplets.emplace_back(int(dof(offset(c) + j, a)), int(3 * col + a), w);
             }
     }
-    solve::SparseMatrix P(int(3 * m_num_coeffs), int(3 * n_used));
+    SparseMatrix P(int(3 * m_num_coeffs), int(3 * n_used));
     P.setFromTriplets(triplets.begin(), triplets.end());
     P.makeCompressed();
     return P;

@@ -145,12 +145,14 @@ void DgModel::build_operator() {
     }
 }
 
-void DgModel::assemble(const MatX3& x, Warp warp, solve::SparseMatrix* K, VecX* f_int) {
+void DgModel::assemble(const MatX3& x, Warp warp, SparseMatrix* K, VecX* f_int) {
     const Index n = 3 * m_num_coeffs;
     const MatX3 u = x - m_rest;
     if (warp == Warp::Linear) {
-        if (K)
+        if (K) {
             *K = m_linear;
+            m_k_rotation.assign(std::size_t(num_cells()), Mat3::Identity());
+        }
         if (f_int)
             *f_int = -(m_linear * flat(u));
         return;
@@ -166,34 +168,12 @@ void DgModel::assemble(const MatX3& x, Warp warp, solve::SparseMatrix* K, VecX* 
         *f_int = -(m_penalty * flat(u)); // the penalty is not rotated
     double* values = K ? K->valuePtr() : nullptr;
     MatX rotated;
-    VecX uc, ud, fc, fd;
     for (Index c = 0; c < num_cells(); ++c) {
-        const CellTerms& t = m_terms[std::size_t(c)];
-        const Mat3& R = m_rotation[std::size_t(c)];
-        const int nbc = basis(c).size();
-        if (f_int) {
-            // Local displacements in c's frame: R^T x - X0 on c and its neighbours.
-            uc.resize(3 * nbc);
-            for (int i = 0; i < nbc; ++i)
-                uc.segment<3>(3 * i) = R.transpose() * x.row(offset(c) + i).transpose()
-                    - m_rest.row(offset(c) + i).transpose();
-            fc.noalias() = t.diagonal * uc;
-            for (std::size_t k = 0; k < t.neighbours.size(); ++k) {
-                const Index d = t.neighbours[k];
-                const int nbd = basis(d).size();
-                ud.resize(3 * nbd);
-                for (int i = 0; i < nbd; ++i)
-                    ud.segment<3>(3 * i) = R.transpose() * x.row(offset(d) + i).transpose()
-                        - m_rest.row(offset(d) + i).transpose();
-                fc.noalias() += t.off[k].transpose() * ud;
-                fd.noalias() = t.off[k] * uc;
-                for (int i = 0; i < nbd; ++i)
-                    f_int->segment<3>(3 * (offset(d) + i)) -= R * fd.segment<3>(3 * i);
-            }
-            for (int i = 0; i < nbc; ++i)
-                f_int->segment<3>(3 * (offset(c) + i)) -= R * fc.segment<3>(3 * i);
-        }
+        if (f_int)
+            add_cell_forces(x, c, *f_int);
         if (values) {
+            const CellTerms& t = m_terms[std::size_t(c)];
+            const Mat3& R = m_rotation[std::size_t(c)];
             rotate_into(t.diagonal, R, rotated);
             scatter(rotated, t.diagonal_slots, values);
             for (std::size_t k = 0; k < t.neighbours.size(); ++k) {
@@ -203,9 +183,72 @@ void DgModel::assemble(const MatX3& x, Warp warp, solve::SparseMatrix* K, VecX* 
             }
         }
     }
+    if (K)
+        m_k_rotation = m_rotation;
 }
 
-solve::SparseMatrix DgModel::stiffness() const {
+void DgModel::add_cell_forces(const MatX3& x, Index c, VecX& f_int) const {
+    // Local displacements in c's frame: R^T x - X0 on c and its neighbours.
+    const CellTerms& t = m_terms[std::size_t(c)];
+    const Mat3& R = m_rotation[std::size_t(c)];
+    const int nbc = basis(c).size();
+    VecX &uc = m_uc, &ud = m_ud, &fc = m_fc, &fd = m_fd; // scratch, kept between cells
+    uc.resize(3 * nbc);
+    for (int i = 0; i < nbc; ++i)
+        uc.segment<3>(3 * i) = R.transpose() * x.row(offset(c) + i).transpose()
+            - m_rest.row(offset(c) + i).transpose();
+    fc.noalias() = t.diagonal * uc;
+    for (std::size_t k = 0; k < t.neighbours.size(); ++k) {
+        const Index d = t.neighbours[k];
+        const int nbd = basis(d).size();
+        ud.resize(3 * nbd);
+        for (int i = 0; i < nbd; ++i)
+            ud.segment<3>(3 * i) = R.transpose() * x.row(offset(d) + i).transpose()
+                - m_rest.row(offset(d) + i).transpose();
+        fc.noalias() += t.off[k].transpose() * ud;
+        fd.noalias() = t.off[k] * uc;
+        for (int i = 0; i < nbd; ++i)
+            f_int.segment<3>(3 * (offset(d) + i)) -= R * fd.segment<3>(3 * i);
+    }
+    for (int i = 0; i < nbc; ++i)
+        f_int.segment<3>(3 * (offset(c) + i)) -= R * fc.segment<3>(3 * i);
+}
+
+bool DgModel::assemble_in_turns(
+    const MatX3& x, SparseMatrix& K, VecX& f_int, int phase, int period) {
+    const Index n = 3 * m_num_coeffs;
+    if (period < 1 || m_k_rotation.size() != std::size_t(num_cells()) || K.rows() != n
+        || K.nonZeros() != m_pattern.nonZeros())
+        return false;
+    for (Index c = 0; c < num_cells(); ++c)
+        m_rotation[std::size_t(c)] = fit_rotation(x, c, m_rotation[std::size_t(c)]);
+    f_int = -(m_penalty * flat(x - m_rest)); // the penalty is not rotated
+    for (Index c = 0; c < num_cells(); ++c)
+        add_cell_forces(x, c, f_int);
+    // This turn's cells: their warped blocks move from the old rotation to the new one.
+    double* values = K.valuePtr();
+    MatX now, before;
+    for (Index c = phase % period; c < num_cells(); c += period) {
+        const CellTerms& t = m_terms[std::size_t(c)];
+        const Mat3& R = m_rotation[std::size_t(c)];
+        const Mat3& R0 = m_k_rotation[std::size_t(c)];
+        rotate_into(t.diagonal, R, now);
+        rotate_into(t.diagonal, R0, before);
+        now -= before;
+        scatter(now, t.diagonal_slots, values);
+        for (std::size_t k = 0; k < t.neighbours.size(); ++k) {
+            rotate_into(t.off[k], R, now);
+            rotate_into(t.off[k], R0, before);
+            now -= before;
+            scatter(now, t.off_slots[k], values);
+            scatter_transposed(now, t.off_slots_t[k], values);
+        }
+        m_k_rotation[std::size_t(c)] = R;
+    }
+    return true;
+}
+
+SparseMatrix DgModel::stiffness() const {
     return m_linear;
 }
 

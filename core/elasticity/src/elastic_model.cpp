@@ -9,7 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
+#include <exception>
 #include <limits>
 #include <numeric>
 #include <span>
@@ -56,18 +56,23 @@ void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const M
         }
     }
     if (Kvals) {
+        // K is symmetric (element_stiffness), so block (j, i) of R K R^T is block (i, j)
+        // transposed: each pair of blocks is rotated once.
+        const auto scatter_block = [&](int i, int j, const Mat3& B) {
+            const int* row = scatter + std::size_t(3 * i) * std::size_t(d) + std::size_t(3 * j);
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    if (const int s = row[std::size_t(a) * std::size_t(d) + std::size_t(b)]; s >= 0)
+                        Kvals[s] += B(a, b);
+        };
         for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
+            for (int i = 0; i <= j; ++i) {
                 const Mat3 B = corotated
                     ? Mat3(R * K.template block<3, 3>(3 * i, 3 * j) * R.transpose())
                     : Mat3(K.template block<3, 3>(3 * i, 3 * j));
-                for (int b = 0; b < 3; ++b)
-                    for (int a = 0; a < 3; ++a) {
-                        const int s = scatter[std::size_t(3 * i + a) * std::size_t(d)
-                            + std::size_t(3 * j + b)];
-                        if (s >= 0)
-                            Kvals[s] += B(a, b);
-                    }
+                scatter_block(i, j, B);
+                if (i != j)
+                    scatter_block(j, i, B.transpose());
             }
     }
 }
@@ -106,6 +111,43 @@ Eigen::Map<const MatX> ElasticModel::cell_stiffness(Index c) const {
     return { K.data(), K.rows(), K.cols() };
 }
 
+void ElasticModel::compute_cells(std::span<const Index> cells) {
+    // compute_cell() writes only its own cell's slots, so the cells run in parallel (the mean
+    // value integration of a cell-splitting cut's new cells was a quarter of its cost on the
+    // organ); the results do not depend on the thread count. The first failure in list order is
+    // thrown, as a serial loop would.
+    m_rest_extent2.resize(m_cells.size(), 0.0);
+    m_p1.resize(m_cells.size());
+    std::vector<std::exception_ptr> errors(cells.size());
+    const long n = long(cells.size());
+    // A P1 tet or a Q1 hex takes microseconds, a general polyhedron's mean value or harmonic
+    // set-up ~0.5 ms: a cut's 5-20 new cells are worth both threads (they ran on one below 33
+    // cells), so they go one at a time to whichever thread is free.
+    const long polyhedra = std::count_if(cells.begin(), cells.end(), [&](Index c) {
+        return m_mesh->cells[std::size_t(c)].shape == mesh::CellShape::Polyhedron;
+    });
+    const bool parallel = m_threads > 1 && (n > 32 || polyhedra > 1);
+    const int chunk = n > 256 ? 16 : 1;
+#pragma omp parallel for num_threads(m_threads) schedule(dynamic, chunk) if (parallel)
+    for (long k = 0; k < n; ++k) {
+        try {
+            compute_cell(cells[std::size_t(k)]);
+        } catch (...) {
+            errors[std::size_t(k)] = std::current_exception();
+        }
+    }
+    for (const std::exception_ptr& e : errors)
+        if (e)
+            std::rethrow_exception(e);
+    for (Index c : cells) {
+        const mesh::CellShape shape = m_mesh->cells[std::size_t(c)].shape;
+        (shape == mesh::CellShape::Tet          ? m_bases_built.p1
+                : shape == mesh::CellShape::Hex ? m_bases_built.q1
+                                                : m_bases_built.polyhedral)
+            += 1;
+    }
+}
+
 void ElasticModel::compute_cell(Index c) {
     CellData& cd = m_cells[std::size_t(c)];
     const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
@@ -124,8 +166,6 @@ void ElasticModel::compute_cell(Index c) {
     for (const Vec3& p : X)
         Xc += p;
     Xc /= double(X.size());
-    if (m_rest_extent2.size() < m_cells.size())
-        m_rest_extent2.resize(m_cells.size());
     double extent2 = 0;
     for (const Vec3& p : X)
         extent2 = std::max(extent2, (p - X.front()).squaredNorm());
@@ -133,8 +173,8 @@ void ElasticModel::compute_cell(Index c) {
     cd.rest_local.resize(Index(X.size()), 3);
     for (std::size_t i = 0; i < X.size(); ++i)
         cd.rest_local.row(Index(i)) = (X[i] - Xc).transpose();
-    if (m_p1.size() < m_cells.size())
-        m_p1.resize(m_cells.size());
+    if (cell.shape == mesh::CellShape::Polyhedron && m_options.stabilization > 0)
+        stabilize_non_affine(cd.stiffness, cd.rest_local, cd.fit, m_options.stabilization);
     P1Cell& t = m_p1[std::size_t(c)];
     t = P1Cell {};
     const basis::CellIntegration& ci = cd.integration;
@@ -154,67 +194,19 @@ void ElasticModel::compute_cell(Index c) {
     }
 }
 
-void ElasticModel::rebuild_mass() {
-    ++m_cell_version; // every change of cells or fixed DOFs ends here
-    m_mass.setZero(m_mesh->num_nodes());
-    for (const CellData& cd : m_cells)
-        for (std::size_t i = 0; i < cd.nodes.size(); ++i)
-            m_mass(cd.nodes[i]) += m_material.density * cd.integration.lumped_volume(Index(i));
-    m_reduced_mass.resize(m_num_free);
-    for (Index r = 0; r < m_num_free; ++r)
-        m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
-    if (m_nodal)
-        refresh_nodal();
-}
-
-void ElasticModel::update_mass(const std::vector<char>& affected) {
-    const Index nn = m_mesh->num_nodes();
-    if (affected.size() != std::size_t(nn) || m_node_offset.size() != m_cells.size() + 1
-        || m_mass.size() > nn || m_nodal) {
-        rebuild_mass();
-        return;
-    }
-    ++m_cell_version;
-    const Index old = Index(m_mass.size());
-    m_mass.conservativeResize(nn);
-    for (Index n = old; n < nn; ++n)
-        m_mass(n) = 0;
-    for (Index n = 0; n < nn; ++n)
-        if (affected[std::size_t(n)])
-            m_mass(n) = 0;
-    for (std::size_t c = 0; c < m_cells.size(); ++c) {
-        const std::size_t begin = m_node_offset[c], end = m_node_offset[c + 1];
-        bool any = false;
-        for (std::size_t k = begin; k < end && !any; ++k)
-            any = affected[std::size_t(m_node_list[k])] != 0;
-        if (!any)
-            continue;
-        const CellData& cd = m_cells[c];
-        for (std::size_t i = 0; i < cd.nodes.size(); ++i)
-            if (affected[std::size_t(cd.nodes[i])])
-                m_mass(cd.nodes[i]) += m_material.density * cd.integration.lumped_volume(Index(i));
-    }
-    m_reduced_mass.resize(m_num_free);
-    for (Index r = 0; r < m_num_free; ++r)
-        m_reduced_mass(r) = m_mass(m_free_dofs[std::size_t(r)] / 3);
-    if (const char* v = std::getenv("POLYCUT_CHECK_UNDO"); v != nullptr && v[0] == '1') {
-        const auto partial = m_mass;
-        rebuild_mass();
-        if (partial != m_mass)
-            throw StateError("ElasticModel::update_mass",
-                "the masses of the affected nodes differ from a full rebuild");
-    }
-}
-
-void ElasticModel::rebuild_topology() {
+void ElasticModel::rebuild_topology(std::vector<Index> node_map) {
+    m_previous_renumber_base = m_renumber_base;
     m_renumber_base = m_topology_version + 1; // the version rebuild_pattern() is about to make
+    m_node_map = std::move(node_map);
+    m_partition_nodes = 0; // node ids renumbered: the ranges start afresh
     const Index n = m_mesh->num_nodes();
     m_fixed.resize(3 * std::size_t(n), 0);
     m_cells.assign(std::size_t(m_mesh->num_cells()), CellData {});
     m_rotation.assign(m_cells.size(), Mat3::Identity());
     m_p1.assign(m_cells.size(), P1Cell {});
-    for (Index c = 0; c < m_mesh->num_cells(); ++c)
-        compute_cell(c);
+    std::vector<Index> all(m_cells.size());
+    std::iota(all.begin(), all.end(), Index(0));
+    compute_cells(all);
     rebuild_pattern();
     rebuild_mass();
 }
@@ -300,8 +292,8 @@ void ElasticModel::update_cells(
             m_rotation[k] = parent >= 0 && std::size_t(parent) < old_cells
                 ? m_rotation[std::size_t(parent)]
                 : Mat3::Identity();
-        compute_cell(c);
     }
+    compute_cells(todo);
     if (topology)
         build_pattern(affected, std::move(old_cell));
     update_mass(affected);
@@ -317,8 +309,8 @@ void ElasticModel::set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs) {
     rebuild_mass();
 }
 
-solve::SparseMatrix ElasticModel::make_matrix() const {
-    solve::SparseMatrix A(m_num_free, m_num_free);
+SparseMatrix ElasticModel::make_matrix() const {
+    SparseMatrix A(m_num_free, m_num_free);
     A.resizeNonZeros(Index(m_inner.size()));
     std::copy(m_outer.begin(), m_outer.end(), A.outerIndexPtr());
     std::copy(m_inner.begin(), m_inner.end(), A.innerIndexPtr());
@@ -333,57 +325,6 @@ void ElasticModel::set_threads(int threads) {
         return;
     m_threads = threads;
     rebuild_partition();
-}
-
-void ElasticModel::rebuild_partition() {
-    const std::size_t count = m_cells.size();
-    if (m_node_offset.size() != count + 1)
-        throw StateError("ElasticModel::rebuild_partition", "the pattern is not built");
-    const int T = std::max(m_threads, 1);
-    m_thread_cells.assign(std::size_t(T), {});
-    m_shared_cells.clear();
-    if (T == 1) {
-        m_thread_cells[0].resize(count);
-        std::iota(m_thread_cells[0].begin(), m_thread_cells[0].end(), Index(0));
-        return;
-    }
-    // The flat cell -> nodes arrays of the pattern (the scattered CellData would cost a cache
-    // miss per cell).
-    const auto cell_nodes = [&](std::size_t c) {
-        return std::span<const Index>(
-            m_node_list.data() + m_node_offset[c], m_node_offset[c + 1] - m_node_offset[c]);
-    };
-    Index nodes = 0;
-    for (Index i : m_node_list)
-        nodes = std::max(nodes, i + 1);
-    // Node ranges [bound[t], bound[t + 1]) holding ~count / T cells each by their first node.
-    std::vector<long> per_node(std::size_t(nodes) + 1, 0);
-    for (std::size_t c = 0; c < count; ++c)
-        if (const auto n = cell_nodes(c); !n.empty())
-            ++per_node[std::size_t(*std::min_element(n.begin(), n.end()))];
-    std::vector<Index> bound(std::size_t(T) + 1, nodes);
-    bound.front() = 0;
-    long seen = 0;
-    int t = 1;
-    for (Index i = 0; i < nodes && t < T; ++i) {
-        seen += per_node[std::size_t(i)];
-        while (t < T && seen * T >= long(count) * t)
-            bound[std::size_t(t++)] = i + 1;
-    }
-    const auto owner = [&](Index i) {
-        return int(std::upper_bound(bound.begin(), bound.end(), i) - bound.begin()) - 1;
-    };
-    for (std::size_t c = 0; c < count; ++c) {
-        const auto n = cell_nodes(c);
-        if (n.empty())
-            continue;
-        const auto [lo, hi] = std::minmax_element(n.begin(), n.end());
-        const int a = owner(*lo);
-        if (a == owner(*hi) && a >= 0 && a < T)
-            m_thread_cells[std::size_t(a)].push_back(Index(c));
-        else
-            m_shared_cells.push_back(Index(c));
-    }
 }
 
 void ElasticModel::assemble_cells(
@@ -428,7 +369,7 @@ void ElasticModel::assemble_cells(
         detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
 }
 
-void ElasticModel::assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) {
+void ElasticModel::assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) {
     double* Kvals = nullptr;
     if (K) {
         if (K->rows() != m_num_free || K->nonZeros() != Index(m_inner.size()) || !K->isCompressed())

@@ -180,13 +180,22 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         m_outer[std::size_t(c) + 1]
             = m_outer[std::size_t(c)] + m_nb_length[std::size_t(m_free_dofs[std::size_t(c)]) / 3];
     m_inner.resize(std::size_t(m_outer[std::size_t(m_num_free)]));
+    // delta[j] first (every column of node j shifts alike), then the columns on the model's
+    // threads: each writes its own range of m_inner (these O(nnz) copies, and the two scatter
+    // copies below, were ~2.8 ms of a 4.6 ms pattern update per cut on the split organ)
     std::vector<int> delta(nn, 0);
+    for (Index c = 0; c < m_num_free; ++c) {
+        const std::size_t k = std::size_t(m_free_dofs[std::size_t(c)]), j = k / 3;
+        if (!affected[j])
+            delta[j] = m_outer[std::size_t(c)] - old_outer[std::size_t(old_dof_map[k])];
+    }
+    const int threads = std::max(m_threads, 1);
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
     for (Index c = 0; c < m_num_free; ++c) {
         const std::size_t k = std::size_t(m_free_dofs[std::size_t(c)]), j = k / 3;
         int* out = m_inner.data() + m_outer[std::size_t(c)];
         if (!affected[j]) {
             const std::size_t o = std::size_t(old_dof_map[k]); // the same column before
-            delta[j] = m_outer[std::size_t(c)] - old_outer[o];
             const auto from = old_inner.begin() + old_outer[o],
                        to = old_inner.begin() + old_outer[o + 1];
             if (same_numbering)
@@ -233,6 +242,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     const auto all_free = [&](Index i) { return free_count[std::size_t(i)] == 3; };
     std::vector<char> compact(n_cells, 0);
     m_block_scatter.assign(20 * n_cells, -1);
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
     for (std::size_t c = 0; c < n_cells; ++c) {
         const auto nodes = cell_nodes(c);
         if (nodes.size() != 4 || !m_p1[c].valid
@@ -242,8 +252,10 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         int* blk = m_block_scatter.data() + 20 * c;
         if (const Index o = reuse[c]; o != kNone) {
             const int* from = old_block.data() + 20 * std::size_t(o);
+            const int shift4[4] = { delta[std::size_t(nodes[0])], delta[std::size_t(nodes[1])],
+                delta[std::size_t(nodes[2])], delta[std::size_t(nodes[3])] };
             for (std::size_t e = 0; e < 16; ++e)
-                blk[e] = from[e] + delta[std::size_t(nodes[e % 4])];
+                blk[e] = from[e] + shift4[e % 4];
             std::copy(from + 16, from + 20, blk + 16);
             continue;
         }
@@ -263,16 +275,31 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         m_scatter_offset[c + 1] = m_scatter_offset[c] + d * d;
     }
     m_scatter.assign(m_scatter_offset[n_cells], -1);
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256) if (threads > 1)
     for (std::size_t c = 0; c < n_cells; ++c) {
         if (compact[c])
             continue;
+        thread_local std::vector<int> shift;
         const auto nodes = cell_nodes(c);
         const std::size_t n = nodes.size(), d = 3 * n;
         int* sc = m_scatter.data() + m_scatter_offset[c];
         if (const Index o = reuse[c]; o != kNone) {
+            // entry (row, col) shifts by its column node's delta: one lookup per column, not
+            // a division and a lookup per entry (this copy was ~35 % of a cut's pattern update)
             const int* from = old_scatter.data() + old_scatter_offset[std::size_t(o)];
-            for (std::size_t e = 0; e < d * d; ++e)
-                sc[e] = from[e] < 0 ? from[e] : from[e] + delta[std::size_t(nodes[(e % d) / 3])];
+            shift.resize(d);
+            bool none = true;
+            for (std::size_t q = 0; q < d; ++q) {
+                shift[q] = delta[std::size_t(nodes[q / 3])];
+                none = none && shift[q] == 0;
+            }
+            if (none) {
+                std::copy(from, from + d * d, sc);
+                continue;
+            }
+            for (std::size_t row = 0; row < d; ++row, from += d, sc += d)
+                for (std::size_t q = 0; q < d; ++q)
+                    sc[q] = from[q] < 0 ? from[q] : from[q] + shift[q];
             continue;
         }
         for (std::size_t q = 0; q < n; ++q) {

@@ -109,4 +109,18 @@ MatX element_stiffness(
     return K;
 }
 
+void stabilize_non_affine(MatX& Ke, const MatX3& dX, const MatX3& G, double tau) {
+    // P u_i = mean(u) + (sum_j u_j G_j^T) dX_i: the affine least-squares fit of the cell's node
+    // values (rotation.hpp), P_ij = 1/n + dX_i . G_j, symmetric and idempotent, so I - P is the
+    // orthogonal projection onto the non-affine modes and a positive semi-definite stiffness.
+    const Index n = dX.rows();
+    const MatX S
+        = MatX::Identity(n, n) - MatX::Constant(n, n, 1.0 / double(n)) - dX * G.transpose();
+    const double k = tau * Ke.trace() / double(3 * n);
+    for (Index i = 0; i < n; ++i)
+        for (Index j = 0; j < n; ++j)
+            for (Index a = 0; a < 3; ++a)
+                Ke(3 * i + a, 3 * j + a) += k * S(i, j);
+}
+
 } // namespace polycut::elasticity

@@ -1,7 +1,6 @@
 #include "polycut/integrate/integrator.hpp"
 
 #include "polycut/common/stats.hpp"
-#include "polycut/geometry/polyhedron.hpp"
 
 #include <algorithm>
 #include <climits>
@@ -135,53 +134,6 @@ void Integrator::springs_reduced(const MatX3& x) {
     spring_diagonal(m_springs, m_model->dof_map(), n_free, m_spring_diag);
 }
 
-void Integrator::ensure_topology(StepReport& report) {
-    if (m_model->topology_version() == m_topology)
-        return;
-    const std::uint64_t before = m_topology;
-    m_topology = m_model->topology_version();
-    m_K = m_model->make_matrix();
-    m_A = m_model->make_matrix();
-    // A cut that kept the node ids keeps the AMG hierarchy, carried over to the new DOF
-    // numbering through the old dof map (issue 12 item 5: no blocking set-up per cut; the
-    // lagged set-up rule sets up again when solves need it).
-    bool kept = false;
-    if (!m_lagged && before != ~std::uint64_t(0) && m_model->nodes_kept_since(before)) {
-        const auto& now = m_model->dof_map();
-        std::vector<long> old_of(std::size_t(m_model->num_free_dofs()), -1);
-        for (std::size_t k = 0; k < now.size(); ++k)
-            if (now[k] != kNone && k < m_dof_map_then.size() && m_dof_map_then[k] != kNone)
-                old_of[std::size_t(now[k])] = long(m_dof_map_then[k]);
-        kept = m_solver.remap(old_of);
-    }
-    m_dof_map_then = m_model->dof_map();
-    if (!kept)
-        m_solver.reset();
-    m_solver.set_blocks(m_model->dof_blocks());
-    if (m_solver.wants_coarse_space())
-        m_solver.set_coarse_space(m_model->coarse_space());
-    if (m_lagged) {
-        // New pattern: the running job (if any) is for the old one. The next solve starts the
-        // new factor in the background unless there never was a factor (the first solve
-        // factors in the foreground, as at start-up).
-        m_factor_job->cancel();
-        m_handover_in = -1;
-        m_lagged_status.pending = false;
-        m_pattern_changed = m_pattern_changed || m_has_factor;
-        m_has_factor = false;
-    }
-    m_dv.setZero(m_model->num_free_dofs());
-    m_dv_prev.resize(0);
-    m_stiffness_age = -1;
-    m_model->rest_rows(m_rest);
-    geometry::Aabb box;
-    for (Index i = 0; i < m_rest.rows(); ++i)
-        box.extend(m_rest.row(i).transpose());
-    m_divergence_limit = m_options.divergence_factor * std::max(box.diagonal(), 1e-12);
-    if (report.warnings.empty() && m_model->num_free_dofs() == 0)
-        report.warnings.emplace_back("no free degrees of freedom");
-}
-
 void Integrator::external_reduced() {
     const Index n = m_model->num_rows();
     m_full.setZero(3 * n);
@@ -262,15 +214,34 @@ bool Integrator::step_implicit(State& s, StepReport& report, double h) {
     const double alpha = m_model->material().rayleigh_mass;
     const double beta = m_model->material().rayleigh_stiffness;
     external_reduced();
-    // K_R and A are reused for stiffness_every - 1 steps (options.hpp); forces are always new
-    const bool new_stiffness = m_stiffness_age < 0
-        || m_stiffness_age + 1 >= std::max(m_options.stiffness_every, 1)
-        || m_stiffness_cells != m_model->cell_version();
-    assemble(s.x, m_options.force_mode, new_stiffness, report);
+    // K_R and A are reused for stiffness_every - 1 steps (options.hpp); forces are always new.
+    // A model that can re-linearizes a 1/stiffness_every share of its cells at every step
+    // instead (Model::assemble_in_turns): the same lag, without a step that re-assembles all.
+    const int period = std::max(m_options.stiffness_every, 1);
+    const bool same_cells = m_stiffness_cells == m_model->cell_version();
+    bool turned = false;
+    if (period > 1 && m_stiffness_age >= 0 && same_cells
+        && m_options.force_mode == ForceMode::Corotated) {
+        const Stopwatch sw;
+        turned = m_model->assemble_in_turns(s.x, m_K, m_fint, m_turn, period);
+        if (turned) {
+            m_model->reduce(m_fint, m_fint_r);
+            report.assembly_ms += sw.ms();
+            m_turn = (m_turn + 1) % period;
+        }
+    }
+    const bool new_stiffness
+        = !turned && (m_stiffness_age < 0 || m_stiffness_age + 1 >= period || !same_cells);
+    // prepare() assembled at these positions already (K, f_int): take that
+    const bool prepared = new_stiffness && m_prepared_x.rows() == s.x.rows()
+        && m_prepared_cells == m_model->cell_version() && m_prepared_x == s.x;
+    m_prepared_x.resize(0, 3);
+    if (!prepared && !turned)
+        assemble(s.x, m_options.force_mode, new_stiffness, report);
     gather_free(s.v, m_v_r);
     const VecX& M = m_model->reduced_mass();
     const double cK = h * beta + h * h, cM = 1.0 + h * alpha;
-    if (new_stiffness) {
+    if (new_stiffness || turned) {
         // A = cK K + cM M and K v in one pass over K
         m_shift = cM * M;
         solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());
@@ -468,6 +439,9 @@ StepReport Integrator::step(State& s) {
     bool backed_up = false;
     try {
         ensure_topology(report);
+        // the assembly runs on the solver's threads: one while a background set-up runs
+        // (solve::AmgOptions::background_serial)
+        m_model->set_threads(std::max(1, std::min(m_options.threads, m_solver.threads())));
         const Index n = m_model->num_rows();
         if (s.x.rows() != n) {
             report.warnings.emplace_back("state has the wrong number of nodes");

@@ -45,8 +45,12 @@ LinearSolver::LinearSolver(const SolverOptions& options)
     : m_options(options)
     , m_pcg(pcg_options(options)) { }
 
-bool LinearSolver::remap(const std::vector<long>& old_of) {
-    return m_options.kind == LinearSolverKind::PcgAmg && m_pcg.remap_preconditioner(old_of);
+bool LinearSolver::remap(const solve::RowRemap& m) {
+    return m_options.kind == LinearSolverKind::PcgAmg && m_pcg.remap_preconditioner(m);
+}
+
+bool LinearSolver::prepare(const solve::SparseMatrix& A) {
+    return wants_prepare() && m_pcg.prepare(A) == solve::SolveStatus::Ok;
 }
 
 void LinearSolver::reset() {

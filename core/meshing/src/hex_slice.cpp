@@ -9,6 +9,7 @@
 #include "polycut/meshing/hex_slice.hpp"
 
 #include "hex_slice_grid.hpp"
+#include "hex_slice_merge.hpp"
 #include "polycut/common/error.hpp"
 #include "surface_prepare.hpp"
 
@@ -26,9 +27,12 @@ namespace polycut::meshing {
 namespace {
 
 using detail::DegenerateGrid;
+using detail::Loop;
+using detail::Piece;
 using detail::SlicedSurface;
 using detail::SliceGrid;
-using Loop = std::vector<Index>;
+using detail::sorted;
+using detail::UnionFind;
 using Cube = std::array<int, 3>;
 
 /// Grid planes around the surface's bounding box with at least h / 2 of margin, moved by
@@ -59,36 +63,6 @@ struct PairHash {
     std::size_t operator()(const Pair& p) const {
         return std::hash<long long>()((long long)(p.a) * 1000003LL ^ (long long)(p.b));
     }
-};
-
-struct UnionFind {
-    std::vector<Index> parent;
-    explicit UnionFind(std::size_t n)
-        : parent(n) {
-        std::iota(parent.begin(), parent.end(), 0);
-    }
-    Index find(Index i) {
-        while (parent[std::size_t(i)] != i)
-            i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
-        return i;
-    }
-    bool unite(Index a, Index b) {
-        a = find(a);
-        b = find(b);
-        if (a == b)
-            return false;
-        parent[std::size_t(b)] = a;
-        return true;
-    }
-};
-
-/// One polyhedral piece of a cube (or a whole inner cube).
-struct Piece {
-    std::vector<Loop> loops; ///< outward face loops
-    std::vector<long> square; ///< per loop: the grid square it lies on, or -1 (skin)
-    double volume = 0; ///< [m^3]
-    long cube = 0; ///< linear cube index
-    bool hex = false;
 };
 
 /// The builder of one attempt; throws DegenerateGrid when the grid must move.
@@ -396,89 +370,6 @@ private:
     std::unordered_set<long> m_holed;
 };
 
-Loop sorted(Loop l) {
-    std::sort(l.begin(), l.end());
-    return l;
-}
-
-/// Merges pieces into groups: cavities into their cube's largest piece, the two sides of holed
-/// squares, and small pieces into the neighbour across their largest shared face. Returns the
-/// group root of each piece.
-std::vector<Index> merge_pieces(const std::vector<Piece>& pieces, const Slicer& slicer,
-    const std::unordered_set<long>& holed, double threshold, HexSliceReport& report) {
-    const std::size_t n = pieces.size();
-    UnionFind uf(n);
-    // Twin loops: the same node set on the other side of a grid square.
-    std::map<Loop, std::vector<std::pair<Index, std::size_t>>> by_key;
-    for (std::size_t p = 0; p < n; ++p)
-        for (std::size_t l = 0; l < pieces[p].loops.size(); ++l)
-            if (pieces[p].square[l] >= 0)
-                by_key[sorted(pieces[p].loops[l])].emplace_back(Index(p), l);
-    std::unordered_map<long, Index> largest; // cube -> largest positive piece
-    for (std::size_t p = 0; p < n; ++p) {
-        auto [it, inserted] = largest.emplace(pieces[p].cube, Index(p));
-        if (!inserted && pieces[p].volume > pieces[std::size_t(it->second)].volume)
-            it->second = Index(p);
-    }
-    for (std::size_t p = 0; p < n; ++p)
-        if (pieces[p].volume < 0) // a cavity's shell: part of the piece around it
-            uf.unite(largest.at(pieces[p].cube), Index(p));
-    for (const auto& [key, uses] : by_key)
-        if (uses.size() == 2
-            && holed.count(pieces[std::size_t(uses[0].first)].square[uses[0].second]))
-            uf.unite(uses[0].first, uses[1].first);
-
-    std::vector<double> volume(n, 0.0);
-    for (std::size_t p = 0; p < n; ++p)
-        volume[std::size_t(uf.find(Index(p)))] += pieces[p].volume;
-    std::vector<Index> order(n);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](Index a, Index b) {
-        return pieces[std::size_t(a)].volume < pieces[std::size_t(b)].volume;
-    });
-    for (int pass = 0; pass < 8; ++pass) {
-        bool changed = false;
-        for (Index p : order) {
-            const Index root = uf.find(p);
-            if (volume[std::size_t(root)] >= threshold)
-                continue;
-            // Shared grid-face area per neighbouring group, over all pieces of p's group.
-            std::map<Index, double> shared;
-            for (std::size_t q = 0; q < n; ++q) {
-                if (uf.find(Index(q)) != root)
-                    continue;
-                for (std::size_t l = 0; l < pieces[q].loops.size(); ++l) {
-                    if (pieces[q].square[l] < 0)
-                        continue;
-                    for (const auto& [other, ol] : by_key.at(sorted(pieces[q].loops[l]))) {
-                        const Index r = uf.find(other);
-                        if (r != root)
-                            shared[r] += slicer.area(pieces[q].loops[l]);
-                    }
-                }
-            }
-            if (shared.empty())
-                continue;
-            const auto best = std::max_element(shared.begin(), shared.end(),
-                [](const auto& a, const auto& b) { return a.second < b.second; });
-            const double v = volume[std::size_t(root)] + volume[std::size_t(best->first)];
-            uf.unite(best->first, root);
-            volume[std::size_t(uf.find(root))] = v;
-            ++report.merged;
-            changed = true;
-        }
-        if (!changed)
-            break;
-    }
-    std::vector<Index> group(n);
-    for (std::size_t p = 0; p < n; ++p)
-        group[p] = uf.find(Index(p));
-    for (std::size_t p = 0; p < n; ++p)
-        if (group[p] == Index(p) && volume[p] < threshold && volume[p] > 0)
-            ++report.small_kept;
-    return group;
-}
-
 double ms_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
         .count();
@@ -495,8 +386,9 @@ mesh::Mesh build(
     report.pieces = 0;
     for (const Piece& p : pieces)
         report.pieces += !p.hex && p.volume > 0;
-    const std::vector<Index> group
-        = merge_pieces(pieces, slicer, slicer.holed_squares(), threshold, report);
+    const std::vector<Index> group = detail::merge_pieces(
+        pieces, [&](const Loop& l) { return slicer.area(l); }, slicer.holed_squares(), threshold,
+        report);
 
     // One cell per group; faces two of its pieces share are dropped.
     std::map<Index, std::vector<std::size_t>> members;

@@ -8,6 +8,13 @@
 #include "polycut/common/error.hpp"
 #include "surface_prepare.hpp"
 
+// CGAL 5.5's experimental self-intersection removal first tries angle smoothing without its
+// safety constraints; on tiny (subnormal) or collapsed patches that smoothing computes NaN
+// positions and the exact predicates that follow abort the process (GMP raises SIGFPE on
+// mpq_set_d(NaN)). Found by tests/fuzz/fuzz_surface_readers (corpus/surface_readers/
+// regression_pmp_smoothing_nan). Without smoothing the removal cuts out and re-fills the
+// intersecting patch, which only uses exact predicates on the input's points.
+#define CGAL_PMP_REMOVE_SELF_INTERSECTIONS_NO_SMOOTHING
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
@@ -207,7 +214,7 @@ public:
         const bool across = std::any_of(pairs.begin(), pairs.end(),
             [&](const auto& p) { return component[p.first] != component[p.second]; });
         m_mesh.remove_property_map(component);
-        if (across)
+        if (across || has_underflowing_edge())
             return;
         try {
             PMP::experimental::remove_self_intersections(m_mesh);
@@ -226,6 +233,20 @@ public:
     const SurfaceMesh& to_wrap() const { return m_to_wrap; }
 
 private:
+    /// An edge shorter than 1e-100 (its squared length is below 1e-200, and products of two
+    /// such squares are subnormal or zero). CGAL's removal measures lengths and angles in
+    /// doubles: on such a surface (a cube with corners collapsed to ~1e-312, found by
+    /// tests/fuzz/fuzz_surface_readers: corpus regression_pmp_*) it walked off the mesh
+    /// (SEGV). The surface is then left for the final check (and the wrap).
+    bool has_underflowing_edge() const {
+        for (auto e : m_mesh.edges())
+            if (!(CGAL::squared_distance(
+                      m_mesh.point(m_mesh.vertex(e, 0)), m_mesh.point(m_mesh.vertex(e, 1)))
+                    >= 1e-200))
+                return true;
+        return false;
+    }
+
     void fill_all_holes() {
         std::vector<CgalMesh::Halfedge_index> cycles;
         PMP::extract_boundary_cycles(m_mesh, std::back_inserter(cycles));

@@ -50,14 +50,25 @@ std::string prepare_closed_surface(SurfaceMesh& s) {
         if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
             return "triangle " + std::to_string(t) + " repeats a vertex";
     }
+    // Only the vertices a triangle uses, in their order: a file may list more, and those would
+    // be isolated vertices of the Surface_mesh, whose null halfedge orient_to_bound_a_volume()
+    // follows out of bounds (CGAL 5.5; found by tests/fuzz/fuzz_surface_readers, corpus
+    // regression_unused_vertices).
+    std::vector<Index> soup_id(s.positions.size(), kNone);
+    for (const auto& t : s.triangles)
+        for (Index v : t)
+            soup_id[std::size_t(v)] = 0;
     std::vector<Point> points;
-    points.reserve(s.positions.size());
-    for (const Vec3& p : s.positions)
-        points.emplace_back(p.x(), p.y(), p.z());
+    for (std::size_t v = 0; v < s.positions.size(); ++v)
+        if (soup_id[v] == 0) {
+            soup_id[v] = Index(points.size());
+            points.emplace_back(s.positions[v].x(), s.positions[v].y(), s.positions[v].z());
+        }
     std::vector<std::vector<std::size_t>> polygons;
     polygons.reserve(s.triangles.size());
     for (const auto& t : s.triangles)
-        polygons.push_back({ std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2]) });
+        polygons.push_back({ std::size_t(soup_id[std::size_t(t[0])]),
+            std::size_t(soup_id[std::size_t(t[1])]), std::size_t(soup_id[std::size_t(t[2])]) });
     // orient_polygon_soup duplicates vertices where the soup is not an orientable manifold
     // and then returns false.
     if (!PMP::orient_polygon_soup(points, polygons))

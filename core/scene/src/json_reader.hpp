@@ -2,6 +2,7 @@
 // that no unknown key is left over. Used only by the scene parser.
 #pragma once
 
+#include "names.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/types.hpp"
 
@@ -105,16 +106,26 @@ public:
             fail(key, "must be a string");
         return v.get<std::string>();
     }
-    std::string choice(const std::string& key, const std::string& fallback,
-        std::initializer_list<const char*> allowed) {
-        const std::string s = string(key, fallback);
-        for (const char* a : allowed)
-            if (s == a)
-                return s;
+    /// An enum option read by its name in `table` (names.hpp); an unknown name fails with the
+    /// accepted names. Absent: `fallback`.
+    template <class E, std::size_t N>
+    E choice(const std::string& key, E fallback, const Name<E> (&table)[N]) {
+        if (!has(key))
+            return fallback;
+        const std::string s = string(key, "");
+        for (const auto& n : table)
+            if (s == n.text)
+                return n.value;
         std::string list;
-        for (const char* a : allowed)
-            list += (list.empty() ? "\"" : ", \"") + std::string(a) + "\"";
+        for (const auto& n : table)
+            list += (list.empty() ? "\"" : ", \"") + std::string(n.text) + "\"";
         fail(key, "must be one of " + list + ", got \"" + s + "\"");
+    }
+    /// The same, required.
+    template <class E, std::size_t N>
+    E choice_required(const std::string& key, const Name<E> (&table)[N]) {
+        get(key);
+        return choice(key, table[0].value, table);
     }
     Vec3 vec3(const std::string& key, const Vec3& fallback, bool required = false,
         const char* unit = "") {

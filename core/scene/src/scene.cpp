@@ -14,8 +14,7 @@
 
 namespace polycut::scene {
 namespace {
-using detail::json;
-using detail::ObjectReader;
+using namespace detail; // json, ObjectReader, the name tables
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxLength = 1e3; // [m] anything larger is a unit mistake
 
@@ -33,7 +32,7 @@ void parse_convex_hull(ObjectReader& r, Geometry& g) {
                        : "is required (an array of >= 4 [x, y, z] corners [m]), or give a "
                          "\"shape\"");
     if (has_shape) {
-        g.shape = r.choice("shape", "", { "truncated_octahedron" });
+        g.shape = r.choice_required("shape", kHullShape);
         g.edge_length = r.number_required("size", 0, kMaxLength, true, "m");
         g.center = r.vec3("center", g.center, false, "m");
     } else {
@@ -79,10 +78,10 @@ std::vector<std::string> parse_optimize(ObjectReader& r, std::vector<std::string
 
 /// surface_file: repair, components and the wrap's size.
 void parse_surface_repair(ObjectReader& r, Geometry& g) {
-    g.repair = r.choice("repair", g.repair, { "auto", "none", "pmp", "wrap" });
-    g.components = r.choice("components", g.components, { "union", "largest", "refuse" });
+    g.repair = r.choice("repair", g.repair, kRepair);
+    g.components = r.choice("components", g.components, kComponents);
     if (r.has("wrap")) {
-        if (g.repair != "auto" && g.repair != "wrap")
+        if (g.repair != Repair::Auto && g.repair != Repair::Wrap)
             r.fail("wrap", "is only used with \"repair\": \"auto\" or \"wrap\"");
         ObjectReader w(r.get("wrap"), r.child("wrap"));
         g.wrap_alpha = w.number("alpha", 0, 0, kMaxLength, true, "m");
@@ -94,23 +93,23 @@ void parse_surface_repair(ObjectReader& r, Geometry& g) {
 /// The implicit shape fields (geometry "implicit" and "octree", and hex_slice's "surface"
 /// object).
 void parse_implicit_shape(ObjectReader& r, Geometry& g) {
-    g.shape = r.choice("shape", "", { "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob" });
+    g.shape = r.choice_required("shape", kImplicitShape);
     g.center = r.vec3("center", g.center, false, "m");
-    if (g.shape == "sphere" || g.shape == "capsule" || g.shape == "hollow_sphere") {
+    if (g.shape == Shape::Sphere || g.shape == Shape::Capsule || g.shape == Shape::HollowSphere) {
         const double radius = r.number_required("radius", 0, kMaxLength, true, "m");
         g.radii = Vec3::Constant(radius);
-        if (g.shape == "hollow_sphere") {
+        if (g.shape == Shape::HollowSphere) {
             g.inner_radius = r.number_required("inner_radius", 0, kMaxLength, true, "m");
             if (!(g.inner_radius < radius))
                 r.fail("inner_radius", "must be smaller than \"radius\"");
         }
     } else {
-        g.radii = r.vec3("radii", g.radii, g.shape == "ellipsoid", "m");
+        g.radii = r.vec3("radii", g.radii, g.shape == Shape::Ellipsoid, "m");
         for (int i = 0; i < 3; ++i)
             if (!(g.radii[i] > 0))
                 throw SceneError(r.child("radii") + "/" + std::to_string(i), "must be > 0 [m]");
     }
-    if (g.shape == "capsule")
+    if (g.shape == Shape::Capsule)
         g.length = r.number_required("length", 0, kMaxLength, false, "m");
 }
 
@@ -142,12 +141,10 @@ void parse_hex_slice(ObjectReader& r, Geometry& g) {
 Geometry parse_geometry(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Geometry g;
-    const std::string type = r.choice("type", "",
-        { "box", "implicit", "surface_file", "mesh_file", "random_planes", "convex_hull",
-            "hex_slice", "octree" });
-    if (type == "box" || type == "random_planes") {
-        g.kind = type == "box" ? Geometry::Kind::Box : Geometry::Kind::RandomPlanes;
-        if (type == "box" && r.has("corners")) {
+    const Geometry::Kind type = r.choice_required("type", kGeometryKind);
+    if (type == Geometry::Kind::Box || type == Geometry::Kind::RandomPlanes) {
+        g.kind = type;
+        if (type == Geometry::Kind::Box && r.has("corners")) {
             // A hexahedron given by its corners instead of origin and size.
             if (r.has("origin") || r.has("size"))
                 r.fail("corners", "replaces \"origin\" and \"size\"; give one or the other");
@@ -180,29 +177,29 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
                 g.cells[i] = e.get<int>();
             }
         }
-        g.elements = r.choice("elements", "tet", { "tet", "hex" });
-        g.tet_split = r.choice("tet_split", "kuhn6", { "kuhn6", "five" });
+        g.elements = r.choice("elements", g.elements, kElements);
+        g.tet_split = r.choice("tet_split", g.tet_split, kTetSplit);
         if (g.kind == Geometry::Kind::RandomPlanes)
             g.planes_per_cell = int(r.integer("planes_per_cell", 3, 1, 64));
         g.seed = unsigned(r.integer("seed", 1, 0, std::numeric_limits<int>::max()));
-    } else if (type == "implicit") {
+    } else if (type == Geometry::Kind::Implicit) {
         g.kind = Geometry::Kind::Implicit;
         parse_implicit_shape(r, g);
         g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
         g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
         g.optimize = parse_optimize(r, g.optimize);
-        g.node_order = r.choice("node_order", g.node_order, { "rcm", "mesher" });
+        g.node_order = r.choice("node_order", g.node_order, kNodeOrder);
         g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
-    } else if (type == "octree") {
+    } else if (type == Geometry::Kind::Octree) {
         g.kind = Geometry::Kind::Octree;
         if (r.has("shape") && r.has("path"))
             r.fail(
                 "path", "give either an implicit \"shape\" or a surface file \"path\", not both");
         if (r.has("shape")) {
-            g.octree.object = "implicit";
+            g.octree.object = OctreeObject::Implicit;
             parse_implicit_shape(r, g);
         } else if (r.has("path")) {
-            g.octree.object = "surface_file";
+            g.octree.object = OctreeObject::SurfaceFile;
             g.path = r.string("path", "");
             g.scale = r.number("scale", 1.0, 0, kMaxLength, true);
         } else {
@@ -215,12 +212,12 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
         }
         g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
         detail::parse_octree(r, g);
-    } else if (type == "convex_hull") {
+    } else if (type == Geometry::Kind::ConvexHull) {
         parse_convex_hull(r, g);
-    } else if (type == "hex_slice") {
+    } else if (type == Geometry::Kind::HexSlice) {
         parse_hex_slice(r, g);
     } else {
-        g.kind = type == "surface_file" ? Geometry::Kind::SurfaceFile : Geometry::Kind::MeshFile;
+        g.kind = type; // SurfaceFile or MeshFile
         g.path = r.string("path", "");
         if (g.path.empty())
             r.fail("path", "is required (a file path relative to the scene file)");
@@ -229,7 +226,7 @@ Geometry parse_geometry(const json& j, const std::string& ptr) {
             g.cell_size = r.number_required("cell_size", 0, kMaxLength, true, "m");
             g.seed = unsigned(r.integer("seed", 0, 0, std::numeric_limits<int>::max()));
             g.optimize = parse_optimize(r, g.optimize);
-            g.node_order = r.choice("node_order", g.node_order, { "rcm", "mesher" });
+            g.node_order = r.choice("node_order", g.node_order, kNodeOrder);
             g.sliver_bound = r.number("sliver_bound", g.sliver_bound, 0, 45, false, "deg");
             parse_surface_repair(r, g);
         }
@@ -244,8 +241,8 @@ Material parse_material(const json& j, const std::string& ptr) {
     m.youngs_modulus = r.number_required("youngs_modulus", 0, 1e12, true, "Pa");
     m.poisson_ratio = r.number("poisson_ratio", m.poisson_ratio, -0.999, 0.4999);
     m.density = r.number("density", m.density, 0, 1e5, true, "kg/m^3");
-    m.rayleigh_mass = r.number("rayleigh_mass", 0, 0, 1e6, false, "1/s");
-    m.rayleigh_stiffness = r.number("rayleigh_stiffness", 0, 0, 1e3, false, "s");
+    m.rayleigh_mass = r.number("rayleigh_mass", m.rayleigh_mass, 0, 1e6, false, "1/s");
+    m.rayleigh_stiffness = r.number("rayleigh_stiffness", m.rayleigh_stiffness, 0, 1e3, false, "s");
     r.finish();
     return m;
 }
@@ -253,11 +250,10 @@ Material parse_material(const json& j, const std::string& ptr) {
 Basis parse_basis(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Basis b;
-    b.rule = r.choice("rule", b.rule, { "heuristic", "reference", "monte_carlo" });
+    b.rule = r.choice("rule", b.rule, kPolyRule);
     b.gauss_degree = int(r.integer("gauss_degree", b.gauss_degree, 1, 8));
     b.harmonic_xi = r.number("harmonic_xi", b.harmonic_xi, 0, 10, true);
-    b.volumetric
-        = r.choice("volumetric", b.volumetric, { "full", "mean_dilatation", "nodal_average" });
+    b.volumetric = r.choice("volumetric", b.volumetric, kVolumetric);
     b.degree = int(r.integer("degree", b.degree, 1, 2));
     r.finish();
     return b;
@@ -266,10 +262,10 @@ Basis parse_basis(const json& j, const std::string& ptr) {
 Dg parse_dg(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Dg d;
-    d.flux = r.choice("flux", d.flux, { "ip", "bz" });
+    d.flux = r.choice("flux", d.flux, kFlux);
     d.penalty = r.number("penalty", d.penalty, 0, 1e6, true);
     d.dirichlet_penalty = r.number("dirichlet_penalty", d.dirichlet_penalty, 0, 1e8, true);
-    d.lambda_penalty = r.choice("lambda_penalty", d.lambda_penalty, { "full", "normal" });
+    d.lambda_penalty = r.choice("lambda_penalty", d.lambda_penalty, kLambdaPenalty);
     d.refine_stress = r.number("refine_stress", d.refine_stress, 0, 1e12, false, "Pa");
     d.refine_levels = int(r.integer("refine_levels", d.refine_levels, 1, 6));
     r.finish();
@@ -279,10 +275,10 @@ Dg parse_dg(const json& j, const std::string& ptr) {
 Integrator parse_integrator(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Integrator it;
-    it.type = r.choice("type", it.type, { "static", "implicit_euler", "semi_implicit_euler" });
+    it.type = r.choice("type", it.type, kIntegrator);
     it.dt = r.number("dt", it.dt, 0, 10, true, "s");
     it.corotated = r.boolean("corotated", it.corotated);
-    it.static_mode = r.choice("static_mode", it.static_mode, { "newton", "fixed_point" });
+    it.static_mode = r.choice("static_mode", it.static_mode, kStaticMode);
     it.tolerance = r.number("tolerance", it.tolerance, 0, 1, true);
     it.max_iterations = int(r.integer("max_iterations", it.max_iterations, 1, 100000));
     it.threads = int(r.integer("threads", it.threads, 1, 256));
@@ -295,16 +291,15 @@ Integrator parse_integrator(const json& j, const std::string& ptr) {
 Solver parse_solver(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Solver s;
-    s.type = r.choice("type", s.type, { "cholmod", "pcg", "cg_relaxation" });
-    s.preconditioner = r.choice("preconditioner", s.preconditioner,
-        { "jacobi", "block_jacobi", "cell_block_jacobi", "lagged_cholesky", "amg", "two_level" });
+    s.type = r.choice("type", s.type, kSolverType);
+    s.preconditioner = r.choice("preconditioner", s.preconditioner, kPreconditioner);
     s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
     s.load_tolerance = r.number("load_tolerance", s.load_tolerance, 0, 1, false);
     s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
     s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));
     s.refactor_iterations
         = int(r.integer("refactor_iterations", s.refactor_iterations, 0, 1000000));
-    s.warm_start = r.choice("warm_start", s.warm_start, { "previous", "extrapolated" });
+    s.warm_start = r.choice("warm_start", s.warm_start, kWarmStart);
     if (r.has("amg")) {
         ObjectReader a(r.get("amg"), r.child("amg"));
         s.amg_strong_threshold = a.number("strong_threshold", s.amg_strong_threshold, 0, 1, true);
@@ -312,10 +307,12 @@ Solver parse_solver(const json& j, const std::string& ptr) {
             = int(a.integer("aggressive_levels", s.amg_aggressive_levels, 0, 10));
         s.amg_interpolation_max_elements = int(
             a.integer("interpolation_max_elements", s.amg_interpolation_max_elements, 0, 100));
+        s.amg_max_coarse_size = int(a.integer("max_coarse_size", s.amg_max_coarse_size, 1, 4000));
         s.amg_rigid_body_modes = a.boolean("rigid_body_modes", s.amg_rigid_body_modes);
         s.amg_node_blocks = a.boolean("node_blocks", s.amg_node_blocks);
         s.amg_background_solves
             = int(a.integer("background_solves", s.amg_background_solves, 0, 1000));
+        s.amg_background_serial = a.boolean("background_serial", s.amg_background_serial);
         a.finish();
     }
     r.finish();
@@ -377,10 +374,10 @@ template <class F> void for_each_item(ObjectReader& r, const std::string& key, F
         f(arr[i], r.child(key) + "/" + std::to_string(i));
 }
 
-Cutting parse_cutting(const json& j, const std::string& ptr, const std::string& default_method) {
+Cutting parse_cutting(const json& j, const std::string& ptr, CutMethod default_method) {
     ObjectReader r(j, ptr);
     Cutting c;
-    c.method = r.choice("method", default_method, { "split", "snap" });
+    c.method = r.choice("method", default_method, kCutMethod);
     c.snap_distance = r.number("snap_distance", c.snap_distance, 0, 0.5);
     c.sliver_volume = r.number("sliver_volume", c.sliver_volume, 0, 0.5);
     c.max_cells_per_tick = r.integer(
@@ -438,21 +435,22 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
         r.fail("name", "is required (a short identifier)");
     s.description = r.string("description", "");
     s.geometry = parse_geometry(r.get("geometry"), r.child("geometry"));
-    s.method = r.choice("method", "tet", { "tet", "hex", "mvc", "harmonic", "dg" });
-    if (s.method == "hex"
-        && !(s.geometry.kind == Geometry::Kind::Box && s.geometry.elements == "hex"))
+    s.method = r.choice("method", s.method, kMethod);
+    if (s.method == Method::Hex
+        && !(s.geometry.kind == Geometry::Kind::Box && s.geometry.elements == Elements::Hex))
         r.fail("method", "\"hex\" needs a box geometry with \"elements\": \"hex\"");
-    if (s.method == "tet" && s.geometry.kind == Geometry::Kind::Box && s.geometry.elements == "hex")
+    if (s.method == Method::Tet && s.geometry.kind == Geometry::Kind::Box
+        && s.geometry.elements == Elements::Hex)
         r.fail("method",
             "\"tet\" needs tetrahedra; set /geometry/elements to \"tet\" or use method \"hex\"");
     if (r.has("basis"))
         s.basis = parse_basis(r.get("basis"), r.child("basis"));
     if (r.has("dg")) {
-        if (s.method != "dg")
+        if (s.method != Method::Dg)
             r.fail("dg", "applies to method \"dg\" only");
         s.dg = parse_dg(r.get("dg"), r.child("dg"));
     }
-    if (s.method == "mvc" && s.basis.rule == "monte_carlo")
+    if (s.method == Method::Mvc && s.basis.rule == basis::PolyRule::MonteCarlo)
         throw SceneError("/basis/rule",
             "\"monte_carlo\" integrates harmonic cells only; use "
             "\"heuristic\" or \"reference\" for mvc");
@@ -503,7 +501,7 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
             if (region) {
                 force.kind = Force::Kind::Region;
                 force.region = parse_selector(f, "box", "plane");
-                force.distribution = f.choice("distribution", "area", { "area", "uniform" });
+                force.distribution = f.choice("distribution", force.distribution, kDistribution);
             } else {
                 force.kind = Force::Kind::Point;
                 if (f.has("distribution"))
@@ -534,10 +532,10 @@ Scene parse_scene(const std::string& text, const std::string& directory) {
     }
     // DESIGN.md sec. 1: tets cut by face snapping (002), polyhedral methods by cell splitting
     // (000); a scene may override, except that snapping needs a pure tet mesh.
-    s.cutting.method = s.method == "tet" ? "snap" : "split";
+    s.cutting.method = s.method == Method::Tet ? CutMethod::Snap : CutMethod::Split;
     if (r.has("cutting"))
         s.cutting = parse_cutting(r.get("cutting"), r.child("cutting"), s.cutting.method);
-    if (s.cutting.method == "snap" && s.method != "tet")
+    if (s.cutting.method == CutMethod::Snap && s.method != Method::Tet)
         throw SceneError(
             "/cutting/method", "\"snap\" (face snapping, seed 002) needs method \"tet\"");
     detail::parse_contact(r, s);

@@ -18,32 +18,27 @@ void positive_size(ObjectReader& r, const Vec3& size) {
 Obstacle parse_obstacle(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     Obstacle o;
-    const std::string type = r.choice("type", "", { "plane", "box", "sphere", "capsule", "mesh" });
+    o.kind = r.choice_required("type", kObstacleKind);
     o.name = r.string("name", "");
-    if (type == "plane") {
-        o.kind = Obstacle::Kind::Plane;
+    if (o.kind == Obstacle::Kind::Plane) {
         o.point = r.vec3("point", o.point, true, "m");
         o.normal = r.vec3("normal", o.normal, true);
         if (!(o.normal.norm() > 0))
             r.fail("normal", "must be a non-zero vector");
         o.normal.normalize();
-    } else if (type == "box") {
-        o.kind = Obstacle::Kind::Box;
+    } else if (o.kind == Obstacle::Kind::Box) {
         o.point = r.vec3("center", o.point, true, "m");
         o.size = r.vec3("size", o.size, true, "m");
         positive_size(r, o.size);
         o.rotation = r.vec3("rotation", o.rotation, false, "rad");
-    } else if (type == "sphere") {
-        o.kind = Obstacle::Kind::Sphere;
+    } else if (o.kind == Obstacle::Kind::Sphere) {
         o.point = r.vec3("center", o.point, true, "m");
         o.radius = r.number_required("radius", 0, kMaxLength, true, "m");
-    } else if (type == "capsule") {
-        o.kind = Obstacle::Kind::Capsule;
+    } else if (o.kind == Obstacle::Kind::Capsule) {
         o.a = r.vec3("a", o.a, true, "m");
         o.b = r.vec3("b", o.b, true, "m");
         o.radius = r.number_required("radius", 0, kMaxLength, true, "m");
-    } else {
-        o.kind = Obstacle::Kind::Mesh;
+    } else { // Mesh
         o.path = r.string("path", "");
         if (o.path.empty())
             r.fail("path", "is required (a closed surface file relative to the scene file)");
@@ -65,12 +60,12 @@ Obstacle parse_obstacle(const json& j, const std::string& ptr) {
 ScriptedTool parse_tool(const json& j, const std::string& ptr) {
     ObjectReader r(j, ptr);
     ScriptedTool t;
-    t.shape = r.choice("shape", "", { "sphere", "capsule", "blade" });
-    if (t.shape != "blade")
+    t.shape = r.choice_required("shape", kToolShape);
+    if (t.shape != ToolShape::Blade)
         t.radius = r.number_required("radius", 0, kMaxLength, true, "m");
-    if (t.shape == "capsule")
+    if (t.shape == ToolShape::Capsule)
         t.length = r.number_required("length", 0, kMaxLength, false, "m");
-    if (t.shape == "blade") {
+    if (t.shape == ToolShape::Blade) {
         t.size = r.vec3("size", t.size, true, "m");
         positive_size(r, t.size);
     }

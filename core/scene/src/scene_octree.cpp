@@ -14,10 +14,10 @@ void parse_octree(ObjectReader& r, Geometry& g) {
     o.surface_cell_size = r.number("surface_cell_size", 0, 0, kMaxLength, false, "m");
     if (o.surface_cell_size > g.cell_size)
         r.fail("surface_cell_size", "must not exceed \"cell_size\" (0: cell_size)");
-    if (o.object == "box" && r.has("surface_cell_size"))
+    if (o.object == OctreeObject::Box && r.has("surface_cell_size"))
         r.fail("surface_cell_size", "needs an object with a surface (\"shape\" or \"path\")");
     o.max_depth = int(r.integer("max_depth", o.max_depth, 0, kMaxDepth));
-    o.keep = r.choice("keep", o.keep, { "centre", "cover" });
+    o.keep = r.choice("keep", o.keep, kOctreeKeep);
     if (r.has("regions")) {
         const json& a = r.get("regions");
         if (!a.is_array())

@@ -101,6 +101,32 @@ void copy_repair(const meshing::RepairReport& r, MeshingSummary& out) {
     out.repair_ms = r.time_ms;
 }
 
+meshing::RepairMode repair_mode(scene::Repair r) {
+    switch (r) {
+    case scene::Repair::None:
+        return meshing::RepairMode::None;
+    case scene::Repair::Pmp:
+        return meshing::RepairMode::Pmp;
+    case scene::Repair::Wrap:
+        return meshing::RepairMode::Wrap;
+    case scene::Repair::Auto:
+        break;
+    }
+    return meshing::RepairMode::Auto;
+}
+
+meshing::ComponentsMode components_mode(scene::Components c) {
+    switch (c) {
+    case scene::Components::Largest:
+        return meshing::ComponentsMode::Largest;
+    case scene::Components::Refuse:
+        return meshing::ComponentsMode::Refuse;
+    case scene::Components::Union:
+        break;
+    }
+    return meshing::ComponentsMode::Union;
+}
+
 /// CGAL Mesh_3 of an implicit shape, with progress on stderr.
 mesh::Mesh implicit_mesh(const scene::Geometry& g, MeshingSummary& summary) {
     const meshing::ImplicitShape shape = implicit_shape(g);
@@ -110,7 +136,8 @@ mesh::Mesh implicit_mesh(const scene::Geometry& g, MeshingSummary& summary) {
     try {
         m = meshing::mesh_implicit(shape, options, meshing::print_progress);
     } catch (const InputError& e) {
-        throw geometry_error(e, "/geometry", "shape \"" + g.shape + "\"");
+        throw geometry_error(
+            e, "/geometry", "shape \"" + std::string(scene::to_string(g.shape)) + "\"");
     }
     summary.mesh_ms
         = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -128,15 +155,8 @@ mesh::Mesh surface_file_mesh(const scene::Scene& s, MeshingSummary& summary) {
     meshing::SurfaceFileOptions o;
     o.scale = g.scale;
     o.meshing = meshing_options(g);
-    const auto mode = meshing::parse_repair_mode(g.repair);
-    if (!mode)
-        throw SceneError("/geometry/repair", "unknown repair mode \"" + g.repair + "\"");
-    const auto components = meshing::parse_components_mode(g.components);
-    if (!components)
-        throw SceneError(
-            "/geometry/components", "unknown components mode \"" + g.components + "\"");
-    o.repair.mode = *mode;
-    o.repair.components = *components;
+    o.repair.mode = repair_mode(g.repair);
+    o.repair.components = components_mode(g.components);
     o.repair.wrap_alpha = g.wrap_alpha;
     o.repair.wrap_offset = g.wrap_offset;
     const std::string path = resolve(s, g.path);
@@ -168,7 +188,8 @@ meshing::SurfaceMesh hex_slice_surface(const scene::Scene& s, MeshingSummary& su
         try {
             return meshing::boundary_surface(meshing::mesh_implicit(implicit_shape(g), o));
         } catch (const InputError& e) {
-            throw geometry_error(e, "/geometry/surface", "shape \"" + g.shape + "\"");
+            throw geometry_error(
+                e, "/geometry/surface", "shape \"" + std::string(scene::to_string(g.shape)) + "\"");
         }
     }
     const std::string path = resolve(s, g.path);
@@ -176,8 +197,8 @@ meshing::SurfaceMesh hex_slice_surface(const scene::Scene& s, MeshingSummary& su
     for (Vec3& p : surface.positions)
         p *= g.scale;
     meshing::RepairOptions o;
-    o.mode = *meshing::parse_repair_mode(g.repair); // the scene parser checked the names
-    o.components = *meshing::parse_components_mode(g.components);
+    o.mode = repair_mode(g.repair);
+    o.components = components_mode(g.components);
     o.wrap_alpha = g.wrap_alpha;
     o.wrap_offset = g.wrap_offset;
     meshing::RepairReport report;
@@ -220,7 +241,7 @@ mesh::Mesh hex_slice_mesh(const scene::Scene& s, MeshingSummary& summary) {
 /// (or of the shape about the origin) and scaled / moved afterwards, so that points the file
 /// puts exactly on one plane stay exactly coplanar for CGAL's exact predicates.
 mesh::Mesh convex_hull_mesh(const scene::Geometry& g) {
-    const bool shape = !g.shape.empty(); // "truncated_octahedron"
+    const bool shape = g.shape != scene::Shape::None; // truncated_octahedron
     mesh::Mesh m;
     try {
         m = meshing::convex_hull_cell(
@@ -271,23 +292,24 @@ mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
             const mesh::Mesh hexes = mesh::hex_grid(grid);
             m = cut::split_by_random_planes(
                 hexes, g.planes_per_cell * int(hexes.num_cells()), g.seed);
-        } else if (g.elements == "hex")
+        } else if (g.elements == scene::Elements::Hex)
             m = mesh::hex_grid(grid);
         else
-            m = mesh::tet_grid(
-                grid, g.tet_split == "five" ? mesh::TetSplit::Five : mesh::TetSplit::Kuhn6);
+            m = mesh::tet_grid(grid,
+                g.tet_split == scene::TetSplit::Five ? mesh::TetSplit::Five
+                                                     : mesh::TetSplit::Kuhn6);
         if (!g.corners.empty())
             map_to_corners(m, g.corners);
         break;
     }
     case scene::Geometry::Kind::Implicit:
         m = implicit_mesh(g, meshed);
-        if (g.node_order == "rcm")
+        if (g.node_order == scene::NodeOrder::Rcm)
             mesh::reorder_for_locality(m); // Mesh_3 numbers nodes in insertion order (issue 18)
         break;
     case scene::Geometry::Kind::SurfaceFile:
         m = surface_file_mesh(s, meshed);
-        if (g.node_order == "rcm")
+        if (g.node_order == scene::NodeOrder::Rcm)
             mesh::reorder_for_locality(m);
         break;
     case scene::Geometry::Kind::MeshFile:
@@ -311,13 +333,13 @@ mesh::Mesh build_mesh(const scene::Scene& s, MeshingSummary* summary) {
     if (g.kind == scene::Geometry::Kind::RandomPlanes)
         checks.planarity_tol = 2e-2; // plane splits snap nodes within the cutter's tolerance
     mesh::validate(m, checks);
-    if ((s.method == "tet") && std::any_of(m.cells.begin(), m.cells.end(), [](const mesh::Cell& c) {
-            return c.shape != mesh::CellShape::Tet;
-        }))
+    if ((s.method == scene::Method::Tet)
+        && std::any_of(m.cells.begin(), m.cells.end(),
+            [](const mesh::Cell& c) { return c.shape != mesh::CellShape::Tet; }))
         throw SceneError("/method",
             "\"tet\" needs a pure tetrahedral mesh; this geometry has other "
             "cells (use \"mvc\" or \"harmonic\")");
-    if (s.method == "mvc" && g.kind == scene::Geometry::Kind::HexSlice) {
+    if (s.method == scene::Method::Mvc && g.kind == scene::Geometry::Kind::HexSlice) {
         // Mean value coordinates are built for convex cells (000 sec. 3); on the non-convex
         // pieces of a sliced surface the steps explode (measured: 15 of 20 rolled back).
         Index nonconvex = 0;

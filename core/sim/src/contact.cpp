@@ -187,9 +187,9 @@ void Simulation::Impl::build_obstacles() {
 void Simulation::Impl::build_scripted_tools(Simulation& owner) {
     for (const scene::ScriptedTool& t : scene.tools) {
         ToolSpec spec;
-        spec.kind = t.shape == "capsule" ? ToolSpec::Kind::Capsule
-            : t.shape == "blade"         ? ToolSpec::Kind::Blade
-                                         : ToolSpec::Kind::Sphere;
+        spec.kind = t.shape == scene::ToolShape::Capsule ? ToolSpec::Kind::Capsule
+            : t.shape == scene::ToolShape::Blade         ? ToolSpec::Kind::Blade
+                                                         : ToolSpec::Kind::Sphere;
         spec.radius = t.radius;
         spec.length = t.length;
         spec.size = t.size;

@@ -1,6 +1,7 @@
 // sim::Simulation::cut: core/cut's pipeline (validation, world to rest, the cut), then the state
 // transfer that keeps new nodes where the material was (nothing pops, 000 sec. 5.1) and the
 // undo of a cut that cannot be carried.
+#include "build_clock.hpp"
 #include "impl.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <unordered_map>
 
 namespace polycut::sim {
 
@@ -35,6 +37,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
         std::size_t(std::max(0, max_triangles)));
     summary.triangles_skipped = int(result.skipped);
     summary.triangles_deferred = int(result.deferred);
+    summary.inverted_cells = int(result.inverted_cells);
+    s.cut_inverted = std::max(s.cut_inverted, result.inverted_cells);
     if (result.status == cut::CutStatus::Rejected) {
         summary.status = CutSummary::Status::Rejected;
         summary.rejected_triangle = int(result.rejected_triangle);
@@ -49,6 +53,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
             s.swept_area += result.swept_area;
             if (budget > 0)
                 s.cut_cells_left -= Index(result.report.changed_cells.size());
+        } else {
+            s.swept_area_undone += result.swept_area;
         }
     }
     summary.cells_after = int(s.mesh.num_cells());
@@ -62,15 +68,23 @@ void Simulation::Impl::ensure_cutting() {
     if (cutting)
         return;
     cut::PipelineOptions opt;
-    opt.method = scene.cutting.method == "snap" ? cut::CutMethod::Snap : cut::CutMethod::Split;
+    opt.method = scene.cutting.method == scene::CutMethod::Snap ? cut::CutMethod::Snap
+                                                                : cut::CutMethod::Split;
     opt.split.snap = scene.cutting.snap_distance;
     opt.split.sliver_volume = scene.cutting.sliver_volume;
     cutting = std::make_unique<cut::CutPipeline>(mesh, initial_mesh, opt);
 }
 
 void Simulation::prepare_cutting() {
-    m_impl->ensure_cutting();
-    m_impl->cutting->prepare();
+    Impl& s = *m_impl;
+    if (s.cutting && s.cutting_prepared)
+        return;
+    std::erase_if(s.build_parts, [](const BuildPart& p) { return p.name == "cut"; });
+    PartClock clock;
+    s.ensure_cutting();
+    s.cutting->prepare();
+    s.cutting_prepared = true;
+    clock.lap(s.build_parts, "cut", true); // build() drops it again with the pipeline
 }
 
 void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, Snapshot& before) {
@@ -90,8 +104,10 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
         if (report.topology_changed) {
             resize_state_after_cut(report);
             check_cut_cells(report.changed_cells);
-            if (scene.integrator.type == "static")
+            if (scene.integrator.type == integrate::IntegratorKind::Static)
                 summary.pieces_fixed = fix_free_pieces();
+            else
+                summary.fragments_pinned = pin_free_fragments(report.changed_cells);
         }
     } catch (const std::exception& e) {
         restore(before);
@@ -124,7 +140,7 @@ void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
 
 double Simulation::blade_min_advance() const {
     const Impl& s = *m_impl;
-    if (s.scene.cutting.method == "snap")
+    if (s.scene.cutting.method == scene::CutMethod::Snap)
         return 0.0;
     constexpr double kMinAdvance = 0.25; // of the mean cell size
     return kMinAdvance * s.initial_cell_size;
@@ -146,6 +162,10 @@ CutSummary Simulation::end_stroke() {
         s.spare = std::move(before);
     if (summary.status == CutSummary::Status::Failed)
         summary.reason = "finishing the stroke " + summary.reason;
+    // The solver's hierarchy was carried over the stroke's cuts: set it up again now that the
+    // cut is done (off the tick where the solver can).
+    if (s.integrator)
+        s.integrator->refresh_preconditioner();
     summary.cells_after = int(s.mesh.num_cells());
     return summary;
 }
@@ -165,7 +185,15 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     const Index n_old = report.nodes_before, n_new = report.nodes_after;
     // Surviving nodes keep their state (renumbered by node_map when the snap cutter compacted
     // nodes); new nodes take displacement and velocity from the material they came from.
-    const MatX3 x_old = state.x, v_old = state.v;
+    MatX3 x_old = state.x;
+    const MatX3 v_old = state.v;
+    // Nodes the cutter moved in rest space keep their displacement (the material point moved by
+    // the snapping distance, a fraction of a cell; 002 sec. 3.2.2 snaps in the reference
+    // configuration for the same reason). Without renumbering (cell splitting) the shift comes
+    // first, so that new nodes interpolate the moved positions.
+    if (report.node_map.empty())
+        for (const auto& [node, old_rest] : report.moved_nodes)
+            x_old.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
     const std::vector<std::uint8_t> fixed_old = node_fixed_mask;
     const VecX loads_old = scene_forces;
     state.x = MatX3::Zero(n_new, 3);
@@ -221,14 +249,13 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
             node_fixed_mask[3 * std::size_t(o.node) + std::size_t(k)]
                 = o.weights.empty() ? 0 : fixed[std::size_t(k)];
     }
-    // Nodes the snap cutter moved in rest space keep their displacement (the material point
-    // moved by the snap distance, a fraction of a cell; 002 sec. 3.2.2 snaps in the reference
-    // configuration for the same reason).
-    for (const auto& [node, old_rest] : report.moved_nodes)
-        state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
+    // Face snapping renumbers: its moved nodes shift after the copy (ids after the call).
+    if (!report.node_map.empty())
+        for (const auto& [node, old_rest] : report.moved_nodes)
+            state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
     // Renumbered nodes: a full rebuild. Cells merged away (cell_map) keep the survivors' data.
     if (!report.node_map.empty())
-        model->rebuild_topology();
+        model->rebuild_topology(report.node_map); // the solver's hierarchy follows the map
     else
         model->update_cells(report.changed_cells, report.cell_map);
     model->set_fixed_dofs(node_fixed_mask);
@@ -266,6 +293,7 @@ void Simulation::Impl::restore(const Snapshot& snap, bool published) {
     scene_forces = snap.scene_forces;
     forces = snap.forces;
     grabs = snap.grabs;
+    swept_area_undone += swept_area - snap.swept_area; // cuts this undo takes back
     swept_area = snap.swept_area;
     if (dg) {
         dg = make_dg_part(scene, mesh); // the restored mesh's cells, in their old order
@@ -336,6 +364,89 @@ int Simulation::Impl::fix_free_pieces() {
     if (fixed > 0)
         model->set_fixed_dofs(node_fixed_mask);
     return fixed;
+}
+
+int Simulation::Impl::pin_free_fragments(const std::vector<Index>& changed) {
+    // Debris: a cut (a re-cut along an earlier one, a blade grazing the skin) can free a few
+    // cells from the body. Under gravity with nothing below, such a fragment falls for ever:
+    // the live organ re-cut published a single tet 1.6 m below the body. A piece of at most
+    // kFragmentCells cells and under kFragmentVolume of the body that reaches no fixed node is
+    // held where it is (all its nodes fixed); larger free pieces (a slab cut off) fall under
+    // their loads. The search walks the face table from the changed cells and stops at
+    // kFragmentCells cells, so its work is bounded by what the cut touched; only a candidate
+    // fragment is checked against the whole mesh for a node it shares with the body (hanging
+    // by a node or an edge, it is not free).
+    if (dg || changed.empty())
+        return 0;
+    constexpr std::size_t kFragmentCells = 64;
+    constexpr double kFragmentVolume = 0.01; // of the body's rest volume
+    const Index nc = mesh.num_cells();
+    const auto fixed_node = [&](Index n) {
+        return node_fixed_mask[3 * std::size_t(n)] || node_fixed_mask[3 * std::size_t(n) + 1]
+            || node_fixed_mask[3 * std::size_t(n) + 2];
+    };
+    // the search that reached each cell; meeting another search's cell means the piece joins
+    // one already judged (too big or anchored)
+    std::unordered_map<Index, std::size_t> search_of;
+    std::vector<Index> piece;
+    int pinned = 0;
+    for (std::size_t si = 0; si < changed.size(); ++si) {
+        const Index start = changed[si];
+        if (start < 0 || start >= nc || search_of.count(start))
+            continue;
+        piece.assign(1, start);
+        search_of[start] = si;
+        bool free = true;
+        for (std::size_t k = 0; k < piece.size() && free; ++k) {
+            const mesh::Cell& cell = mesh.cells[std::size_t(piece[k])];
+            free = std::none_of(cell.nodes.begin(), cell.nodes.end(), fixed_node);
+            for (std::size_t q = 0; q < cell.faces.size() && free; ++q) {
+                const mesh::Face& f = mesh.faces[std::size_t(cell.faces[q])];
+                const Index other = f.owner == piece[k] ? f.neighbour : f.owner;
+                if (other == kNone)
+                    continue;
+                const auto [it, added] = search_of.emplace(other, si);
+                if (!added) {
+                    free = it->second == si;
+                    continue;
+                }
+                piece.push_back(other);
+            }
+            free = free && piece.size() <= kFragmentCells;
+        }
+        if (!free)
+            continue;
+        double volume = 0;
+        for (Index c : piece)
+            volume += mesh.cell_volume(c);
+        if (!(volume < kFragmentVolume * body_volume))
+            continue;
+        // hanging on the body by a node or an edge: not free (the one pass over the mesh, for
+        // a candidate only)
+        std::vector<Index> nodes;
+        for (Index c : piece)
+            nodes.insert(nodes.end(), mesh.cells[std::size_t(c)].nodes.begin(),
+                mesh.cells[std::size_t(c)].nodes.end());
+        std::sort(nodes.begin(), nodes.end());
+        nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+        bool hanging = false;
+        for (Index c = 0; c < nc && !hanging; ++c) {
+            const auto found = search_of.find(c);
+            if (found != search_of.end() && found->second == si)
+                continue;
+            for (Index n : mesh.cells[std::size_t(c)].nodes)
+                hanging = hanging || std::binary_search(nodes.begin(), nodes.end(), n);
+        }
+        if (hanging)
+            continue;
+        for (Index n : nodes)
+            for (std::size_t k = 0; k < 3; ++k)
+                node_fixed_mask[3 * std::size_t(n) + k] = 1;
+        ++pinned;
+    }
+    if (pinned > 0)
+        model->set_fixed_dofs(node_fixed_mask);
+    return pinned;
 }
 
 } // namespace polycut::sim

@@ -16,11 +16,10 @@ namespace polycut::sim {
 dg::DgOptions dg_options(const scene::Scene& s) {
     dg::DgOptions o;
     o.degree = s.basis.degree;
-    o.flux = s.dg.flux == "bz" ? dg::Flux::BabuskaZlamal : dg::Flux::InteriorPenalty;
+    o.flux = s.dg.flux;
     o.penalty = s.dg.penalty;
     o.dirichlet_penalty = s.dg.dirichlet_penalty;
-    o.lambda_penalty
-        = s.dg.lambda_penalty == "normal" ? dg::LambdaPenalty::Normal : dg::LambdaPenalty::Full;
+    o.lambda_penalty = s.dg.lambda_penalty;
     return o;
 }
 
@@ -69,7 +68,7 @@ VecX dg_scene_loads(const scene::Scene& s, const mesh::Mesh& m, const dg::DgMode
     nodal.loads.forces.clear();
     nodal.loads.pressures.clear();
     for (const scene::Force& f : s.loads.forces)
-        if (f.kind == scene::Force::Kind::Point || f.distribution == "uniform")
+        if (f.kind == scene::Force::Kind::Point || f.distribution == scene::Distribution::Uniform)
             nodal.loads.forces.push_back(f);
     if (!nodal.loads.forces.empty()) {
         VecX c;
@@ -79,7 +78,7 @@ VecX dg_scene_loads(const scene::Scene& s, const mesh::Mesh& m, const dg::DgMode
     // Area forces: a uniform traction F / A on the selected boundary faces; pressures: -p n.
     for (std::size_t i = 0; i < s.loads.forces.size(); ++i) {
         const scene::Force& f = s.loads.forces[i];
-        if (f.kind == scene::Force::Kind::Point || f.distribution == "uniform")
+        if (f.kind == scene::Force::Kind::Point || f.distribution == scene::Distribution::Uniform)
             continue;
         std::vector<Index> faces;
         double area = 0;

@@ -25,11 +25,11 @@ SceneEstimate estimate(const scene::Scene& s) {
         * double(std::max(g.cells.z(), 0));
     switch (g.kind) {
     case Kind::Box:
-        if (g.elements == "hex") {
+        if (g.elements == scene::Elements::Hex) {
             e.cells = blocks;
             e.nodes_per_cell = 8;
         } else {
-            e.cells = blocks * (g.tet_split == "five" ? 5.0 : 6.0);
+            e.cells = blocks * (g.tet_split == scene::TetSplit::Five ? 5.0 : 6.0);
         }
         e.basis = "box of " + std::to_string(long(blocks)) + " blocks";
         break;
@@ -50,11 +50,11 @@ SceneEstimate estimate(const scene::Scene& s) {
         const double pi = std::numbers::pi;
         const Vec3 r = g.radii;
         double volume = 4.0 / 3.0 * pi * r.x() * r.y() * r.z();
-        if (g.shape == "sphere") {
+        if (g.shape == scene::Shape::Sphere) {
             volume = 4.0 / 3.0 * pi * std::pow(r.x(), 3);
-        } else if (g.shape == "capsule") {
+        } else if (g.shape == scene::Shape::Capsule) {
             volume = pi * r.x() * r.x() * g.length + 4.0 / 3.0 * pi * std::pow(r.x(), 3);
-        } else if (g.shape == "blob") {
+        } else if (g.shape == scene::Shape::Blob) {
             volume *= 2.0; // lobes reach past the radii
         }
         const double h = std::max(g.cell_size, 1e-12);
@@ -62,11 +62,13 @@ SceneEstimate estimate(const scene::Scene& s) {
             // About one cell per cube of h^3, the cut ones with ~20 nodes.
             e.cells = 1.5 * volume / (h * h * h) + 1;
             e.nodes_per_cell = 20;
-            e.basis = g.shape + " hex-sliced at cell size " + std::to_string(h) + " m";
+            e.basis = std::string(scene::to_string(g.shape)) + " hex-sliced at cell size "
+                + std::to_string(h) + " m";
             break;
         }
         e.cells = 2.0 * volume / (kRegularTet * h * h * h); // Mesh_3 cells run smaller than h
-        e.basis = g.shape + " meshed at cell size " + std::to_string(h) + " m";
+        e.basis = std::string(scene::to_string(g.shape)) + " meshed at cell size "
+            + std::to_string(h) + " m";
         break;
     }
     case Kind::MeshFile:
@@ -87,14 +89,14 @@ SceneEstimate estimate(const scene::Scene& s) {
     case Kind::Octree: {
         // base cells over the object's box, plus a skin of surface cells (area / size^2, twice
         // for the 2:1 transition layers); regions are not counted
-        const Vec3 box = g.octree.object == "box" ? g.size : Vec3(2.0 * g.radii);
+        const Vec3 box = g.octree.object == scene::OctreeObject::Box ? g.size : Vec3(2.0 * g.radii);
         const double c = std::max(g.cell_size, 1e-12);
         const double sc = g.octree.surface_cell_size > 0 ? g.octree.surface_cell_size : c;
         const double area = 2.0 * (box.x() * box.y() + box.y() * box.z() + box.z() * box.x());
-        e.cells
-            = box.prod() / (c * c * c) + (g.octree.object == "box" ? 0.0 : 2.0 * area / (sc * sc));
+        e.cells = box.prod() / (c * c * c)
+            + (g.octree.object == scene::OctreeObject::Box ? 0.0 : 2.0 * area / (sc * sc));
         e.nodes_per_cell = 12;
-        e.known = g.octree.object != "surface_file";
+        e.known = g.octree.object != scene::OctreeObject::SurfaceFile;
         e.basis = "octree of " + std::to_string(c) + " m cells";
         break;
     }

@@ -63,6 +63,8 @@ struct ActiveGrab {
 struct Simulation::Impl {
     scene::Scene scene;
     MeshingSummary meshing; ///< what CGAL meshing reported while building initial_mesh
+    /// The parts build() made, with their cost (build_report.cpp); [0] is the mesh
+    std::vector<BuildPart> build_parts;
     mesh::Mesh initial_mesh; ///< for reset()
     mesh::Mesh mesh;
     std::vector<std::uint8_t> node_fixed_mask; ///< per DOF (3#N), from the scene's fixed sets
@@ -74,6 +76,8 @@ struct Simulation::Impl {
     std::unique_ptr<cut::CutPipeline> cutting;
     /// Makes `cutting` for the current mesh if there is none.
     void ensure_cutting();
+    /// prepare_cutting() built `cutting` at load (its cost is the "cut" entry of build_parts)
+    bool cutting_prepared = false;
     /// Cells the cuts of this tick may still change (scene cutting.max_cells_per_tick; reset
     /// by step()); the triangles past it are deferred to the next tick.
     Index cut_cells_left = 0;
@@ -104,6 +108,10 @@ struct Simulation::Impl {
     /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
     /// returns how many pieces it fixed.
     int fix_free_pieces();
+    /// Dynamic scenes: fragments (at most 64 cells and 1 % of the body's volume) that a cut
+    /// freed from every fixed node, reached from `changed`, are held where they are (their
+    /// nodes fixed). Returns how many.
+    int pin_free_fragments(const std::vector<Index>& changed);
     integrate::State state;
     VecX scene_forces; ///< (3#N) constant nodal loads from the scene [N]
     VecX f_ext; ///< (3#N) work vector [N]
@@ -116,9 +124,15 @@ struct Simulation::Impl {
     surface::Topology topology;
     std::uint64_t topology_version = 1;
     double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
+    /// Most inverted tets around one cut call since the last step (its report warns).
+    std::size_t cut_inverted = 0;
+    /// Rest area swept by cuts that were undone: failed cuts and those a failed step took back
+    /// [m^2]. Not restored by an undo: the blade swept it.
+    double swept_area_undone = 0;
     /// Cube root of the uncut mesh's mean cell volume [m]: the length the cut tolerances and the
     /// blade's minimum advance are relative to.
     double initial_cell_size = 0;
+    double body_volume = 0; ///< rest volume of the scene as built [m^3]
     /// Largest rest bounding-box diagonal of a cell of the uncut mesh [m]: how far a material
     /// point can be from its nearest node (pick()).
     double max_cell_diameter = 0;

@@ -24,15 +24,22 @@ void centre_domain(meshing::OctreeOptions& o, const Vec3& lo, const Vec3& hi) {
 } // namespace
 
 meshing::ImplicitShape implicit_shape(const scene::Geometry& g) {
-    if (g.shape == "sphere")
+    switch (g.shape) {
+    case scene::Shape::Sphere:
         return meshing::ImplicitShape::sphere(g.radii.x(), g.center);
-    if (g.shape == "hollow_sphere")
+    case scene::Shape::HollowSphere:
         return meshing::ImplicitShape::hollow_sphere(g.inner_radius, g.radii.x(), g.center);
-    if (g.shape == "ellipsoid")
+    case scene::Shape::Ellipsoid:
         return meshing::ImplicitShape::ellipsoid(g.radii, g.center);
-    if (g.shape == "capsule")
+    case scene::Shape::Capsule:
         return meshing::ImplicitShape::capsule(g.radii.x(), g.length, Vec3::UnitZ(), g.center);
-    return meshing::ImplicitShape::blob(g.radii, g.center);
+    case scene::Shape::Blob:
+        return meshing::ImplicitShape::blob(g.radii, g.center);
+    case scene::Shape::None:
+    case scene::Shape::TruncatedOctahedron:
+        break;
+    }
+    throw SceneError("/geometry/shape", "names no implicit shape"); // the parser prevents it
 }
 
 std::unique_ptr<meshing::Octree> make_octree(const scene::Scene& s) {
@@ -41,17 +48,17 @@ std::unique_ptr<meshing::Octree> make_octree(const scene::Scene& s) {
     o.cell_size = g.cell_size;
     o.surface_cell_size = g.octree.surface_cell_size;
     o.max_depth = g.octree.max_depth;
-    o.keep = g.octree.keep == "cover" ? meshing::OctreeOptions::Keep::Cover
-                                      : meshing::OctreeOptions::Keep::Centre;
+    o.keep = g.octree.keep == scene::OctreeKeep::Cover ? meshing::OctreeOptions::Keep::Cover
+                                                       : meshing::OctreeOptions::Keep::Centre;
     for (const auto& r : g.octree.regions)
         o.regions.push_back({ r.lo, r.hi, r.cell_size });
     meshing::SignedValue value;
-    if (g.octree.object == "implicit") {
+    if (g.octree.object == scene::OctreeObject::Implicit) {
         const meshing::ImplicitShape shape = implicit_shape(g);
         const double r = meshing::bounding_radius(shape);
         centre_domain(o, shape.center.array() - r, shape.center.array() + r);
         value = [shape](const Vec3& p) { return meshing::implicit_value(shape, p); };
-    } else if (g.octree.object == "surface_file") {
+    } else if (g.octree.object == scene::OctreeObject::SurfaceFile) {
         std::filesystem::path path(g.path);
         if (path.is_relative() && !s.directory.empty())
             path = std::filesystem::path(s.directory) / path;

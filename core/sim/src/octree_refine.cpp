@@ -137,6 +137,7 @@ int Simulation::Impl::refine_octree(StepReport& report) {
         state.v = v;
     state.time = state_time;
     cutting.reset(); // its adjacency is of the old mesh
+    cutting_prepared = false;
     static_solved = false;
     sync_positions();
     refresh_topology();

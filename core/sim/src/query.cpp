@@ -123,9 +123,15 @@ MeshStats Simulation::mesh_stats() const {
     st.rest_volume = m.rest_volume();
     st.components = m.count_components();
     st.surface_closed = mesh::check_boundary_surface(m).ok();
-    st.cut_area = cut::cut_face_area(m);
-    st.swept_area = m_impl->swept_area;
+    const CutAreas a = cut_areas();
+    st.cut_area = a.cut_area;
+    st.swept_area = a.swept_area;
+    st.swept_area_undone = a.swept_area_undone;
     return st;
+}
+
+CutAreas Simulation::cut_areas() const {
+    return { cut::cut_face_area(m_impl->mesh), m_impl->swept_area, m_impl->swept_area_undone };
 }
 
 const MeshingSummary& Simulation::meshing_summary() const {

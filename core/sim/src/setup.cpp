@@ -10,28 +10,19 @@
 namespace polycut::sim {
 
 elasticity::Material elasticity_material(const scene::Scene& s) {
-    elasticity::Material m;
-    m.youngs_modulus = s.material.youngs_modulus;
-    m.poisson_ratio = s.material.poisson_ratio;
-    m.density = s.material.density;
-    m.rayleigh_mass = s.material.rayleigh_mass;
-    m.rayleigh_stiffness = s.material.rayleigh_stiffness;
-    return m;
+    return s.material; // the scene reads the module's type (docs/decisions/0051)
 }
 
 basis::BasisOptions basis_options(const scene::Scene& s) {
     basis::BasisOptions b;
-    b.poly = s.method == "harmonic" ? basis::PolyBasis::Harmonic : basis::PolyBasis::MeanValue;
-    b.rule = s.basis.rule == "reference" ? basis::PolyRule::Reference
-        : s.basis.rule == "monte_carlo"  ? basis::PolyRule::MonteCarlo
-                                         : basis::PolyRule::Heuristic;
-    if (s.method == "harmonic" && s.basis.rule == "heuristic")
+    const bool harmonic = s.method == scene::Method::Harmonic;
+    b.poly = harmonic ? basis::PolyBasis::Harmonic : basis::PolyBasis::MeanValue;
+    b.rule = s.basis.rule;
+    if (harmonic && b.rule == basis::PolyRule::Heuristic)
         b.rule = basis::PolyRule::Reference; // the heuristic rule is specific to mean value cells
     b.gauss_degree = s.basis.gauss_degree;
     b.harmonic_xi = s.basis.harmonic_xi;
-    b.volumetric = s.basis.volumetric == "mean_dilatation" ? basis::VolumetricRule::MeanDilatation
-        : s.basis.volumetric == "nodal_average"            ? basis::VolumetricRule::NodalAverage
-                                                           : basis::VolumetricRule::Full;
+    b.volumetric = s.basis.volumetric;
     return b;
 }
 
@@ -91,7 +82,7 @@ VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m) {
         }
         std::vector<double> weight(m.rest.size(), 0.0);
         double total = 0;
-        if (force.distribution == "uniform") {
+        if (force.distribution == scene::Distribution::Uniform) {
             for (std::size_t n = 0; n < m.rest.size(); ++n)
                 if (scene::selects(force.region, m.rest[n])) {
                     weight[n] = 1;
@@ -156,7 +147,7 @@ VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m) {
 namespace polycut::sim {
 
 void check_time_step(const scene::Scene& s, const elasticity::ElasticModel& model) {
-    if (s.integrator.type != "semi_implicit_euler")
+    if (s.integrator.type != integrate::IntegratorKind::SemiImplicitEuler)
         return;
     const integrate::StabilityLimit limit = integrate::semi_implicit_limit(model);
     if (s.integrator.dt <= limit.critical_dt)
@@ -170,41 +161,59 @@ void check_time_step(const scene::Scene& s, const elasticity::ElasticModel& mode
     throw SceneError("/integrator/dt", text);
 }
 
+integrate::LinearSolverKind linear_solver_kind(const scene::Solver& sv) {
+    using K = integrate::LinearSolverKind;
+    switch (sv.type) {
+    case scene::SolverType::Cholmod:
+        return K::Cholmod;
+    case scene::SolverType::CgRelaxation:
+        return K::CgRelaxation;
+    case scene::SolverType::Pcg:
+        break;
+    }
+    switch (sv.preconditioner) {
+    case scene::Preconditioner::BlockJacobi:
+        return K::PcgBlockJacobi;
+    case scene::Preconditioner::CellBlockJacobi:
+        return K::PcgCellBlockJacobi;
+    case scene::Preconditioner::LaggedCholesky:
+        return K::PcgLagged;
+    case scene::Preconditioner::Amg:
+        return K::PcgAmg;
+    case scene::Preconditioner::TwoLevel:
+        return K::PcgTwoLevel;
+    case scene::Preconditioner::Jacobi:
+        break;
+    }
+    return K::PcgJacobi;
+}
+
 integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     integrate::IntegratorOptions o;
     const auto& it = s.integrator;
-    o.kind = it.type == "static"      ? integrate::IntegratorKind::Static
-        : it.type == "implicit_euler" ? integrate::IntegratorKind::ImplicitEuler
-                                      : integrate::IntegratorKind::SemiImplicitEuler;
+    o.kind = it.type;
     o.dt = it.dt;
     o.force_mode = it.corotated ? elasticity::ForceMode::Corotated : elasticity::ForceMode::Linear;
-    o.static_mode = !it.corotated         ? integrate::StaticMode::Linear
-        : it.static_mode == "fixed_point" ? integrate::StaticMode::CorotatedFixedPoint
-                                          : integrate::StaticMode::CorotatedNewton;
+    o.static_mode = it.corotated ? it.static_mode : integrate::StaticMode::Linear;
     o.static_tolerance = it.tolerance;
     o.static_max_iterations = it.max_iterations;
     o.gravity = s.loads.gravity;
     const auto& sv = s.solver;
-    o.solver.kind = sv.type == "cholmod"           ? integrate::LinearSolverKind::Cholmod
-        : sv.type == "cg_relaxation"               ? integrate::LinearSolverKind::CgRelaxation
-        : sv.preconditioner == "block_jacobi"      ? integrate::LinearSolverKind::PcgBlockJacobi
-        : sv.preconditioner == "cell_block_jacobi" ? integrate::LinearSolverKind::PcgCellBlockJacobi
-        : sv.preconditioner == "lagged_cholesky"   ? integrate::LinearSolverKind::PcgLagged
-        : sv.preconditioner == "amg"               ? integrate::LinearSolverKind::PcgAmg
-        : sv.preconditioner == "two_level"         ? integrate::LinearSolverKind::PcgTwoLevel
-                                                   : integrate::LinearSolverKind::PcgJacobi;
+    o.solver.kind = linear_solver_kind(sv);
     o.solver.relative_tolerance = sv.tolerance;
     o.solver.load_tolerance = sv.load_tolerance;
     o.solver.max_iterations = sv.max_iterations;
     o.solver.refactor_every = sv.refactor_every;
     o.solver.refactor_iterations = sv.refactor_iterations;
-    o.extrapolate_warm_start = sv.warm_start == "extrapolated";
+    o.extrapolate_warm_start = sv.warm_start == scene::WarmStart::Extrapolated;
     o.solver.amg.strong_threshold = sv.amg_strong_threshold;
     o.solver.amg.aggressive_levels = sv.amg_aggressive_levels;
     o.solver.amg.interpolation_max_elements = sv.amg_interpolation_max_elements;
+    o.solver.amg.max_coarse_size = sv.amg_max_coarse_size;
     o.solver.amg.rigid_body_modes = sv.amg_rigid_body_modes;
     o.solver.amg.node_blocks = sv.amg_node_blocks;
     o.solver.amg.background_solves = sv.amg_background_solves;
+    o.solver.amg.background_serial = sv.amg_background_serial;
     o.threads = it.threads;
     o.stiffness_every = it.stiffness_every;
     o.energy_guard = it.energy_guard;

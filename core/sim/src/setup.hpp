@@ -15,6 +15,9 @@ namespace polycut::sim {
 
 elasticity::Material elasticity_material(const scene::Scene& s);
 basis::BasisOptions basis_options(const scene::Scene& s);
+/// The integrator kind of a scene solver: type cholmod / cg_relaxation, or PCG with its
+/// preconditioner.
+integrate::LinearSolverKind linear_solver_kind(const scene::Solver& sv);
 integrate::IntegratorOptions integrator_options(const scene::Scene& s);
 
 /// Per-DOF fixed mask (3#N). Throws SceneError ("/fixed/i") for a set that selects no node.

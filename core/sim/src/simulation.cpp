@@ -1,4 +1,5 @@
 // sim::Simulation: construction from a scene, stepping, forces and grabs.
+#include "build_clock.hpp"
 #include "impl.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
@@ -19,7 +20,9 @@ namespace polycut::sim {
 Simulation::Simulation(scene::Scene scene)
     : m_impl(std::make_unique<Impl>()) {
     m_impl->scene = std::move(scene);
+    PartClock clock;
     m_impl->initial_mesh = build_mesh(m_impl->scene, &m_impl->meshing);
+    clock.lap(m_impl->build_parts, "mesh", true);
     m_impl->build();
     m_impl->build_scripted_tools(*this);
 }
@@ -36,14 +39,18 @@ double Simulation::time() const {
     return m_impl->time;
 }
 bool Simulation::is_static() const {
-    return m_impl->scene.integrator.type == "static";
+    return m_impl->scene.integrator.type == integrate::IntegratorKind::Static;
 }
 
 void Simulation::Impl::build() {
+    build_parts.resize(std::min<std::size_t>(build_parts.size(), 1)); // keep the mesh's
+    PartClock clock;
     cut_undo.reset();
     swept_area = 0;
-    initial_cell_size = std::cbrt(
-        initial_mesh.rest_volume() / double(std::max<Index>(1, initial_mesh.num_cells())));
+    swept_area_undone = 0;
+    body_volume = initial_mesh.rest_volume();
+    initial_cell_size
+        = std::cbrt(body_volume / double(std::max<Index>(1, initial_mesh.num_cells())));
     max_cell_diameter = 0;
     for (Index c = 0; c < initial_mesh.num_cells(); ++c) {
         geometry::Aabb box;
@@ -52,13 +59,14 @@ void Simulation::Impl::build() {
         max_cell_diameter = std::max(max_cell_diameter, box.diagonal());
     }
     mesh = initial_mesh;
-    if (scene.method == "dg") {
+    if (scene.method == scene::Method::Dg) {
         // DG (seed 003): the integrator steps the coefficients; nodes only carry the stitched
         // field (docs/decisions/0021). Fixed regions are weak, so no DOF is eliminated.
         model.reset();
         node_fixed_mask.assign(3 * mesh.rest.size(), 0);
         scene_forces = VecX::Zero(3 * mesh.num_nodes());
         dg = make_dg_part(scene, mesh);
+        clock.lap(build_parts, "dg_model", true);
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
     } else {
         dg.reset();
@@ -66,10 +74,13 @@ void Simulation::Impl::build() {
         scene_forces = scene_loads(scene, mesh);
         model = std::make_unique<elasticity::ElasticModel>(
             mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
+        clock.lap(build_parts, "model", true);
         integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
         check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
     }
+    clock.lap(build_parts, "integrator", true);
     cutting.reset();
+    cutting_prepared = false;
     cut_cells_left = scene.cutting.max_cells_per_tick;
     state = integrator->rest_state();
     forces.clear();
@@ -81,10 +92,17 @@ void Simulation::Impl::build() {
     tick = 0;
     time = 0;
     static_solved = false;
+    clock.lap(build_parts, "contact", contact != nullptr);
     sync_positions();
     refresh_topology();
+    clock.lap(build_parts, "surface", true);
     build_embedded();
+    clock.lap(build_parts, "embedded", embedded != nullptr);
     build_octree();
+    clock.lap(build_parts, "octree", octree != nullptr);
+    // the first step's AMG set-up, here (off the tick when a server loads a scene)
+    const bool prepared = integrator->prepare(state);
+    clock.lap(build_parts, "solver", prepared);
 }
 
 void Simulation::reset() {
@@ -237,6 +255,7 @@ StepReport Simulation::step() {
                     s.node_fixed_mask.assign(3 * s.mesh.rest.size(), 0);
                     s.scene_forces = VecX::Zero(3 * s.mesh.num_nodes());
                     s.cutting.reset(); // its adjacency is of the old mesh
+                    s.cutting_prepared = false;
                     s.static_solved = false; // a static scene solves again on the finer mesh
                     s.refresh_topology();
                     r.topology_changed = true;
@@ -262,6 +281,14 @@ StepReport Simulation::step() {
         } catch (const std::exception& e) {
             r.warnings.push_back(std::string("cut could not be undone: ") + e.what());
         }
+    }
+    if (s.cut_inverted > 0) {
+        // Said after the step's own warnings (a warning event shows the first).
+        r.warnings.push_back("cut through folded tissue: " + std::to_string(s.cut_inverted)
+            + (s.cut_inverted == 1 ? " inverted cell" : " inverted cells")
+            + " around the blade; there the world-to-rest map is not one-to-one and the cut "
+              "follows the fold only approximately");
+        s.cut_inverted = 0;
     }
     if (s.cut_undo)
         s.spare = std::move(s.cut_undo); // its buffers serve the next cut's undo copy

@@ -62,11 +62,123 @@ View view(const SortedCsr& m, const Vector& inverse_diagonal) {
         inverse_diagonal.data() };
 }
 
+/// T row blocks of a level for hybrid Gauss-Seidel: block t is rows [rows[t], rows[t + 1]),
+/// and row i's entries in its own block's columns are the slots [begin[i], end[i]).
+struct Blocks {
+    int T;
+    const int* rows;
+    const int* begin;
+    const int* end;
+};
+
+/// Per row of a sorted CSR operator, the slots of its own block's columns.
+void find_own_slots(const int* ptr, const int* column, const std::vector<int>& rows,
+    std::vector<int>& begin, std::vector<int>& end) {
+    const std::size_t T = rows.size() - 1;
+    begin.resize(std::size_t(rows.back()));
+    end.resize(std::size_t(rows.back()));
+    for (std::size_t t = 0; t < T; ++t) {
+        const int lo = rows[t], hi = rows[t + 1];
+        for (int i = lo; i < hi; ++i) {
+            const int* first = column + ptr[i];
+            const int* last = column + ptr[i + 1];
+            begin[std::size_t(i)] = int(std::lower_bound(first, last, lo) - column);
+            end[std::size_t(i)] = int(std::lower_bound(first, last, hi) - column);
+        }
+    }
+}
+
+/// The l1 terms (sum of |a_ij| over other blocks' columns) and 1 / (a_ii + l1_i) per row.
+void l1_terms(const View& a, const Blocks& k, double* l1, double* inverse) {
+    for (int i = 0; i < a.rows; ++i) {
+        double s = 0;
+        for (int q = a.ptr[i]; q < k.begin[i]; ++q)
+            s += std::abs(a.value[q]);
+        for (int q = k.end[i]; q < a.ptr[i + 1]; ++q)
+            s += std::abs(a.value[q]);
+        l1[i] = s;
+        inverse[i] = 1.0 / (a.value[a.diagonal[i]] + s);
+    }
+}
+
+/// Hybrid down-sweep from x = 0 and its residual: forward l1 Gauss-Seidel inside each block
+/// (a.inverse_diagonal holds 1 / (a_ii + l1_i)), then r = b - A x.
+void hybrid_down(
+    const View& a, const Blocks& k, const double* l1, const double* b, double* x, double* r) {
+#pragma omp parallel num_threads(k.T)
+    {
+        // forward l1 Gauss-Seidel from zero inside each block (other blocks' x are still 0)
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < k.T; ++t)
+            for (int i = k.rows[t]; i < k.rows[t + 1]; ++i)
+                x[i] = (b[i] - row_dot(a.value, a.column, x, k.begin[i], a.diagonal[i]))
+                    * a.inverse_diagonal[i];
+                // r = b - A x = (D_l1 + L_B) x - A x: the l1 term, minus what the sweep did not use
+                // (the strict upper part and the other blocks' lower columns)
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < k.T; ++t)
+            for (int i = k.rows[t]; i < k.rows[t + 1]; ++i)
+                r[i] = l1[i] * x[i]
+                    - (row_dot(a.value, a.column, x, a.diagonal[i] + 1, a.ptr[i + 1])
+                        + row_dot(a.value, a.column, x, a.ptr[i], k.begin[i]));
+    }
+}
+
+/// Hybrid up-sweep, the adjoint of hybrid_down(): other blocks' columns at their values from
+/// before the sweep (Jacobi across blocks, kept in `cross`), backward l1 Gauss-Seidel inside.
+void hybrid_up(const View& a, const Blocks& k, double* cross, const double* b, double* x) {
+#pragma omp parallel num_threads(k.T)
+    {
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < k.T; ++t)
+            for (int i = k.rows[t]; i < k.rows[t + 1]; ++i)
+                cross[i] = row_dot(a.value, a.column, x, a.ptr[i], k.begin[i])
+                    + row_dot(a.value, a.column, x, k.end[i], a.ptr[i + 1]);
+                // x_i += (b - A x)_i / (a_ii + l1_i), i descending
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < k.T; ++t)
+            for (int i = k.rows[t + 1] - 1; i >= k.rows[t]; --i) {
+                const double lower = row_dot(a.value, a.column, x, k.begin[i], a.diagonal[i]);
+                const double upper = row_dot(a.value, a.column, x, a.diagonal[i] + 1, k.end[i]);
+                x[i] += (b[i] - cross[i] - lower - upper - a.value[a.diagonal[i]] * x[i])
+                    * a.inverse_diagonal[i];
+            }
+    }
+}
+
+/// T = rows.size() - 1 contiguous blocks of whole units (rows of a node) over n rows.
+std::vector<int> block_bounds(int n, int T, int unit) {
+    std::vector<int> rows(std::size_t(T) + 1, n);
+    for (int t = 0; t < T; ++t)
+        rows[std::size_t(t)] = int(unit * (long(n) / unit * t / T));
+    return rows;
+}
+
+/// Q = P^T (P: n_fine x n_coarse, sorted or not), rows sorted by column.
+void transpose(const SortedCsr& P, int coarse_rows, SortedCsr& Q) {
+    Q.rows = coarse_rows;
+    Q.ptr.assign(std::size_t(coarse_rows) + 1, 0);
+    for (int c : P.column)
+        ++Q.ptr[std::size_t(c) + 1];
+    for (std::size_t j = 0; j < std::size_t(coarse_rows); ++j)
+        Q.ptr[j + 1] += Q.ptr[j];
+    Q.column.resize(P.column.size());
+    Q.value.resize(P.value.size());
+    std::vector<int> next(Q.ptr.begin(), Q.ptr.end() - 1);
+    for (int i = 0; i < P.rows; ++i)
+        for (int k = P.ptr[std::size_t(i)]; k < P.ptr[std::size_t(i) + 1]; ++k) {
+            const int slot = next[std::size_t(P.column[std::size_t(k)])]++;
+            Q.column[std::size_t(slot)] = i;
+            Q.value[std::size_t(slot)] = P.value[std::size_t(k)];
+        }
+}
+
 } // namespace
 
 bool AmgCycle::add_level(int rows, const int* A_ptr, const int* A_col, const double* A_val,
     int P_rows, const int* P_ptr, const int* P_col, const double* P_val) {
     m_ready = false;
+    m_coarsest_factored = false;
     Level level;
     SortedCsr& A = level.A;
     A.rows = rows;
@@ -139,7 +251,13 @@ bool AmgCycle::finish(const SparseMatrix& A) {
         m_node_ptr.clear();
     find_block_slots();
     m_A = nullptr;
-    // the coarsest operator (the fine matrix itself when there is no coarse level)
+    // the coarsest operator (the fine matrix itself when there is no coarse level); a coarse
+    // one is factored once per set-up, not again when a cut changes the fine pattern (the
+    // organ scenes' 366 x 366 factor costs milliseconds)
+    if (!m_levels.empty() && m_coarsest_factored) {
+        m_ready = true;
+        return true;
+    }
     Eigen::MatrixXd dense;
     if (m_levels.empty() && n > 4000)
         return false; // no hierarchy to speak of: let the caller use another cycle
@@ -156,6 +274,7 @@ bool AmgCycle::finish(const SparseMatrix& A) {
     m_coarsest.compute(dense);
     if (m_coarsest.info() != Eigen::Success)
         return false;
+    m_coarsest_factored = !m_levels.empty();
     m_ready = true;
     return true;
 }
@@ -178,9 +297,17 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
         a = view(m_levels[l - 1].A, m_levels[l - 1].inverse_diagonal);
         r = m_levels[l - 1].r.data();
     }
-    const bool hybrid = l == 0 && m_threads > 1;
+    // coarse levels of at least kHybridNonzeros entries are smoothed by T threads too
+    Level* own = l == 0 ? nullptr : &m_levels[l - 1];
+    const bool coarse_hybrid = own && m_threads > 1 && prepare_hybrid(*own);
+    const bool hybrid = (l == 0 && m_threads > 1) || coarse_hybrid;
     const bool blocks = l == 0 && !m_node_ptr.empty();
-    if (hybrid && blocks)
+    if (coarse_hybrid) {
+        a.inverse_diagonal = own->hybrid_inverse.data();
+        hybrid_down(a,
+            { m_threads, own->block_rows.data(), own->own_begin.data(), own->own_end.data() },
+            own->l1.data(), b, x, r);
+    } else if (hybrid && blocks)
         fine_down_blocks_hybrid(b, x);
     else if (hybrid)
         fine_down_hybrid(b, x);
@@ -190,15 +317,29 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
         forward_from_zero(a, b, x);
         upper_residual(a, x, r);
     }
-    // restrict to the next level: b_c = P^T r (P: rows of this level x rows of the next)
+    // restrict to the next level: b_c = P^T r (P: rows of this level x rows of the next), by
+    // rows of P^T on T threads (each b_c entry summed in one order whatever T)
     Level& next = m_levels[l];
     const SortedCsr& P = next.P;
-    next.b.setZero();
     double* bc = next.b.data();
-    for (int i = 0; i < P.rows; ++i) {
-        const double ri = r[i];
-        for (int k = P.ptr[std::size_t(i)]; k < P.ptr[std::size_t(i) + 1]; ++k)
-            bc[P.column[std::size_t(k)]] += P.value[std::size_t(k)] * ri;
+    // (the finest level's P^T only once the interpolation has stayed for a solve, see
+    // m_solves_since_remap)
+    const bool transposed = next.PT.rows == next.A.rows || l > 0 || m_solves_since_remap >= 2;
+    if (hybrid && transposed) {
+        if (next.PT.rows != next.A.rows)
+            transpose(P, next.A.rows, next.PT);
+        const SortedCsr& Q = next.PT;
+#pragma omp parallel for num_threads(m_threads) schedule(static)
+        for (int j = 0; j < Q.rows; ++j)
+            bc[j] = row_dot(Q.value.data(), Q.column.data(), r, Q.ptr[std::size_t(j)],
+                Q.ptr[std::size_t(j) + 1]);
+    } else {
+        next.b.setZero();
+        for (int i = 0; i < P.rows; ++i) {
+            const double ri = r[i];
+            for (int k = P.ptr[std::size_t(i)]; k < P.ptr[std::size_t(i) + 1]; ++k)
+                bc[P.column[std::size_t(k)]] += P.value[std::size_t(k)] * ri;
+        }
     }
     cycle(l + 1, next.b.data(), next.x.data());
     const double* xc = next.x.data();
@@ -209,7 +350,11 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
             s += P.value[std::size_t(k)] * xc[P.column[std::size_t(k)]];
         x[i] += s;
     }
-    if (hybrid && blocks)
+    if (coarse_hybrid)
+        hybrid_up(a,
+            { m_threads, own->block_rows.data(), own->own_begin.data(), own->own_end.data() },
+            own->cross.data(), b, x);
+    else if (hybrid && blocks)
         fine_up_blocks_hybrid(b, x);
     else if (hybrid)
         fine_up_hybrid(b, x);
@@ -217,6 +362,33 @@ void AmgCycle::cycle(std::size_t l, const double* b, double* x) {
         fine_up_blocks(b, x);
     else
         backward(a, b, x);
+}
+
+int AmgCycle::threaded_levels() const {
+    if (!m_ready || m_threads <= 1)
+        return 0;
+    return 1 + int(std::count_if(m_levels.begin(), m_levels.end(), [](const Level& level) {
+        return level.A.value.size() >= kHybridNonzeros;
+    }));
+}
+
+bool AmgCycle::prepare_hybrid(Level& level) const {
+    const SortedCsr& A = level.A;
+    if (A.value.size() < kHybridNonzeros)
+        return false;
+    if (level.block_rows.size() == std::size_t(m_threads) + 1)
+        return true;
+    // whole nodes per block when the level's unknowns come in threes (systems AMG keeps a
+    // node's unknowns together on every level)
+    level.block_rows = block_bounds(A.rows, m_threads, A.rows % 3 == 0 ? 3 : 1);
+    find_own_slots(A.ptr.data(), A.column.data(), level.block_rows, level.own_begin, level.own_end);
+    level.l1.resize(A.rows);
+    level.hybrid_inverse.resize(A.rows);
+    level.cross.resize(A.rows);
+    l1_terms(view(A, level.inverse_diagonal),
+        { m_threads, level.block_rows.data(), level.own_begin.data(), level.own_end.data() },
+        level.l1.data(), level.hybrid_inverse.data());
+    return true;
 }
 
 bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
@@ -254,48 +426,78 @@ bool AmgCycle::apply(const SparseMatrix& A, const Vector& r, Vector& z) {
         m_A = nullptr;
         return true;
     }
-    const double* values = matrix->valuePtr();
-    for (long i = 0; i < m_fine_rows; ++i)
-        m_fine_inverse_diagonal[i] = 1.0 / values[m_fine_diagonal[std::size_t(i)]];
-    if (m_threads > 1) {
-        // l1 hybrid Gauss-Seidel: a row's diagonal grows by the absolute sum of its entries in
-        // other blocks' columns, so M + M^T - A >= D (M = D_l1 + L_B) and the smoother
-        // converges for any SPD A (Baker, Falgout, Kolev & Yang 2011); without it the cycle
-        // stopped being positive definite after cuts on the organ.
-        const int* outer = matrix->outerIndexPtr();
-        for (long i = 0; i < m_fine_rows; ++i) {
-            double l1 = 0;
-            for (int k = outer[i]; k < m_block_begin[std::size_t(i)]; ++k)
-                l1 += std::abs(values[k]);
-            for (int k = m_block_end[std::size_t(i)]; k < outer[i + 1]; ++k)
-                l1 += std::abs(values[k]);
-            m_fine_l1[i] = l1;
-            if (l1 > 0)
-                m_fine_inverse_diagonal[i] = 1.0 / (values[m_fine_diagonal[std::size_t(i)]] + l1);
-        }
+    if (m_blocks_stale) { // once per solve: the values are those of the whole solve
+        const double* values = matrix->valuePtr();
+        if (m_threads > 1)
+            // l1 hybrid Gauss-Seidel: a row's diagonal grows by the absolute sum of its entries
+            // in other blocks' columns, so M + M^T - A >= D (M = D_l1 + L_B) and the smoother
+            // converges for any SPD A (Baker, Falgout, Kolev & Yang 2011); without it the cycle
+            // stopped being positive definite after cuts on the organ.
+            l1_terms({ int(m_fine_rows), matrix->outerIndexPtr(), m_fine_diagonal.data(),
+                         matrix->innerIndexPtr(), values, nullptr },
+                { m_threads, m_block_rows.data(), m_block_begin.data(), m_block_end.data() },
+                m_fine_l1.data(), m_fine_inverse_diagonal.data());
+        else
+            for (long i = 0; i < m_fine_rows; ++i)
+                m_fine_inverse_diagonal[i] = 1.0 / values[m_fine_diagonal[std::size_t(i)]];
+        m_blocks_stale = false;
     }
     cycle(0, r.data(), z.data());
     m_A = nullptr;
     return true;
 }
 
-bool AmgCycle::remap(const std::vector<long>& old_of) {
+bool AmgCycle::remap(const RowRemap& m) {
     if (m_levels.empty())
         return false;
     SortedCsr& P = m_levels.front().P;
+    const std::vector<long>& old_of = m.old_of;
+    const bool origins = m.origin_ptr.size() == old_of.size() + 1;
+    // Rows that kept their numbers (a cell-splitting cut appends its unknowns) stay in place:
+    // only the rows from the first renumbered one on are made again.
+    std::size_t kept = 0;
+    while (kept < old_of.size() && kept < std::size_t(P.rows) && old_of[kept] == long(kept))
+        ++kept;
     SortedCsr Q;
     Q.rows = int(old_of.size());
-    Q.ptr.assign(old_of.size() + 1, 0);
-    for (std::size_t r = 0; r < old_of.size(); ++r) {
+    Q.ptr.assign(P.ptr.begin(), P.ptr.begin() + std::ptrdiff_t(kept) + 1);
+    Q.ptr.resize(old_of.size() + 1, 0);
+    Q.column.assign(P.column.begin(), P.column.begin() + P.ptr[kept]);
+    Q.value.assign(P.value.begin(), P.value.begin() + P.ptr[kept]);
+    std::vector<std::pair<int, double>> row; // a new unknown's row, merged by column
+    for (std::size_t r = kept; r < old_of.size(); ++r) {
         const long o = old_of[r];
-        if (o >= 0 && o < P.rows)
+        if (o >= 0 && o < P.rows) {
             for (int k = P.ptr[std::size_t(o)]; k < P.ptr[std::size_t(o) + 1]; ++k) {
                 Q.column.push_back(P.column[std::size_t(k)]);
                 Q.value.push_back(P.value[std::size_t(k)]);
             }
+        } else if (o < 0 && origins) {
+            row.clear();
+            for (int j = m.origin_ptr[r]; j < m.origin_ptr[r + 1]; ++j) {
+                const long from = m.origin_row[std::size_t(j)];
+                if (from < 0 || from >= P.rows)
+                    continue;
+                const double w = m.origin_weight[std::size_t(j)];
+                for (int k = P.ptr[std::size_t(from)]; k < P.ptr[std::size_t(from) + 1]; ++k)
+                    row.emplace_back(P.column[std::size_t(k)], w * P.value[std::size_t(k)]);
+            }
+            std::sort(row.begin(), row.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
+            for (const auto& [column, value] : row) {
+                if (Q.ptr[r] < int(Q.column.size()) && Q.column.back() == column)
+                    Q.value.back() += value;
+                else {
+                    Q.column.push_back(column);
+                    Q.value.push_back(value);
+                }
+            }
+        }
         Q.ptr[r + 1] = int(Q.column.size());
     }
     P = std::move(Q);
+    m_levels.front().PT.rows = -1; // transposed again, from the second solve on
+    m_solves_since_remap = 0;
     m_ready = false; // apply() runs finish() on the new matrix
     m_fine_rows = -1;
     m_block_rows.clear();
@@ -305,93 +507,39 @@ bool AmgCycle::remap(const std::vector<long>& old_of) {
 void AmgCycle::set_threads(int threads) {
     m_threads = std::max(threads, 1);
     m_block_rows.clear(); // the blocks are found again by the next apply()
+    for (Level& level : m_levels)
+        level.block_rows.clear();
 }
 
 void AmgCycle::find_block_slots() {
     const int n = int(m_fine_rows);
-    const int T = m_threads;
-    m_block_rows.assign(std::size_t(T) + 1, n);
     // node blocks: whole nodes per thread
-    const long unit = m_node_ptr.empty() ? 1 : 3;
-    for (int t = 0; t < T; ++t)
-        m_block_rows[std::size_t(t)] = int(unit * (long(n) / unit * t / T));
-    m_block_begin.resize(std::size_t(n));
-    m_block_end.resize(std::size_t(n));
+    m_block_rows = block_bounds(n, m_threads, m_node_ptr.empty() ? 1 : 3);
     m_cross.setZero(n);
     m_fine_l1.setZero(n);
-    const int* outer = m_A->outerIndexPtr();
-    const int* inner = m_A->innerIndexPtr();
-    for (int t = 0; t < T; ++t) {
-        const int lo = m_block_rows[std::size_t(t)], hi = m_block_rows[std::size_t(t) + 1];
-        for (int i = lo; i < hi; ++i) {
-            const int* begin = inner + outer[i];
-            const int* end = inner + outer[i + 1];
-            m_block_begin[std::size_t(i)] = int(std::lower_bound(begin, end, lo) - inner);
-            m_block_end[std::size_t(i)] = int(std::lower_bound(begin, end, hi) - inner);
-        }
-    }
+    find_own_slots(
+        m_A->outerIndexPtr(), m_A->innerIndexPtr(), m_block_rows, m_block_begin, m_block_end);
+    m_blocks_stale = true; // the l1 terms (and node blocks) follow the blocks
     find_node_block_ranges();
 }
 
 void AmgCycle::fine_down_hybrid(const double* b, double* x) {
-    const int T = m_threads;
-    const int* outer = m_A->outerIndexPtr();
-    const int* inner = m_A->innerIndexPtr();
-    const double* a = m_A->valuePtr();
-    const double* inv = m_fine_inverse_diagonal.data();
-    const double* l1 = m_fine_l1.data();
-    const int* diag = m_fine_diagonal.data();
-    double* r = m_fine_residual.data();
-#pragma omp parallel num_threads(T)
-    {
-        // forward l1 Gauss-Seidel from zero inside each block (other blocks' x are still 0)
-#pragma omp for schedule(static, 1)
-        for (int t = 0; t < T; ++t)
-            for (int i = m_block_rows[std::size_t(t)]; i < m_block_rows[std::size_t(t) + 1]; ++i)
-                x[i] = (b[i] - row_dot(a, inner, x, m_block_begin[std::size_t(i)], diag[i]))
-                    * inv[i];
-                // r = b - A x = (D_l1 + L_B) x - A x: the l1 term, minus what the sweep did not use
-                // (the strict upper part and the other blocks' lower columns)
-#pragma omp for schedule(static, 1)
-        for (int t = 0; t < T; ++t)
-            for (int i = m_block_rows[std::size_t(t)]; i < m_block_rows[std::size_t(t) + 1]; ++i)
-                r[i] = l1[i] * x[i]
-                    - (row_dot(a, inner, x, diag[i] + 1, outer[i + 1])
-                        + row_dot(a, inner, x, outer[i], m_block_begin[std::size_t(i)]));
-    }
+    const View a { int(m_fine_rows), m_A->outerIndexPtr(), m_fine_diagonal.data(),
+        m_A->innerIndexPtr(), m_A->valuePtr(), m_fine_inverse_diagonal.data() };
+    hybrid_down(a, { m_threads, m_block_rows.data(), m_block_begin.data(), m_block_end.data() },
+        m_fine_l1.data(), b, x, m_fine_residual.data());
 }
 
 void AmgCycle::fine_up_hybrid(const double* b, double* x) {
-    const int T = m_threads;
-    const int* outer = m_A->outerIndexPtr();
-    const int* inner = m_A->innerIndexPtr();
-    const double* a = m_A->valuePtr();
-    const double* inv = m_fine_inverse_diagonal.data();
-    const int* diag = m_fine_diagonal.data();
-    double* cross = m_cross.data();
-#pragma omp parallel num_threads(T)
-    {
-        // other blocks' columns at their values before the sweep (Jacobi across blocks)
-#pragma omp for schedule(static, 1)
-        for (int t = 0; t < T; ++t)
-            for (int i = m_block_rows[std::size_t(t)]; i < m_block_rows[std::size_t(t) + 1]; ++i)
-                cross[i] = row_dot(a, inner, x, outer[i], m_block_begin[std::size_t(i)])
-                    + row_dot(a, inner, x, m_block_end[std::size_t(i)], outer[i + 1]);
-                // backward l1 Gauss-Seidel inside each block: x_i += (b - A x)_i / (a_ii + l1_i),
-                // the adjoint of the forward sweep
-#pragma omp for schedule(static, 1)
-        for (int t = 0; t < T; ++t)
-            for (int i = m_block_rows[std::size_t(t) + 1] - 1; i >= m_block_rows[std::size_t(t)];
-                 --i) {
-                const double lower = row_dot(a, inner, x, m_block_begin[std::size_t(i)], diag[i]);
-                const double upper = row_dot(a, inner, x, diag[i] + 1, m_block_end[std::size_t(i)]);
-                x[i] += (b[i] - cross[i] - lower - upper - a[diag[i]] * x[i]) * inv[i];
-            }
-    }
+    const View a { int(m_fine_rows), m_A->outerIndexPtr(), m_fine_diagonal.data(),
+        m_A->innerIndexPtr(), m_A->valuePtr(), m_fine_inverse_diagonal.data() };
+    hybrid_up(a, { m_threads, m_block_rows.data(), m_block_begin.data(), m_block_end.data() },
+        m_cross.data(), b, x);
 }
 
 void AmgCycle::clear() {
     m_levels.clear();
+    m_coarsest_factored = false;
     m_node_ptr.clear();
     m_blocks_stale = true;
     m_fine_rows = m_fine_nonzeros = -1;

@@ -14,17 +14,17 @@
 // adjoint, each convergent for SPD A), so PCG's theory holds although the coarse operators lag
 // behind the fine one.
 //
-// With T > 1 threads (set_threads) the finest level is split into T contiguous row blocks and
-// smoothed by l1 hybrid Gauss-Seidel (as hypre's relax types 13/14; Baker, Falgout, Kolev &
-// Yang 2011, SIAM J. Sci. Comput. 33: 2864-2887): Gauss-Seidel inside a block, Jacobi across
-// blocks (entries in other blocks' columns use the values from before the sweep), and each
-// row's diagonal grown by the absolute sum of its entries in other blocks' columns. Forward down
-// and backward up stay adjoint (D_l1 + L_B and D_l1 + U_B = (D_l1 + L_B)^T, L_B the
-// block-diagonal strict lower part), so the cycle stays symmetric, and the l1 term makes the
-// smoother convergent for any SPD A (M + M^T - A >= D), so the cycle stays positive definite;
-// plain hybrid Gauss-Seidel does not (it lost definiteness after cuts on the organ). On a mesh
-// numbered for locality few rows cross blocks and the smoother is nearly the serial one. The
-// result depends on T only; T = 1 is the serial cycle.
+// With T > 1 threads (set_threads) the finest level, and each coarse level of at least
+// kHybridNonzeros entries, is split into T contiguous row blocks and smoothed by l1 hybrid
+// Gauss-Seidel (as hypre's relax types 13/14; Baker, Falgout, Kolev & Yang 2011, SIAM J. Sci.
+// Comput. 33: 2864-2887): Gauss-Seidel inside a block, Jacobi across blocks (entries in other
+// blocks' columns use the values from before the sweep), and each row's diagonal grown by the
+// absolute sum of its entries in other blocks' columns. Forward down and backward up stay adjoint
+// (D_l1 + L_B and D_l1 + U_B = (D_l1 + L_B)^T, L_B the block-diagonal strict lower part), so the
+// cycle stays symmetric, and the l1 term makes the smoother convergent for any SPD A (M + M^T - A
+// >= D), so the cycle stays positive definite; plain hybrid Gauss-Seidel does not (it lost
+// definiteness after cuts on the organ). On a mesh numbered for locality few rows cross blocks and
+// the smoother is nearly the serial one. The result depends on T only; T = 1 is the serial cycle.
 //
 // Node blocks (amg_node_blocks.cpp). When the fine matrix's unknowns come as whole nodes (three
 // consecutive rows with one pattern of 3x3 blocks: an elasticity matrix whose fixed DOFs are
@@ -69,18 +69,23 @@ public:
     /// Returns false if a diagonal is missing or the coarsest operator is not SPD.
     bool finish(const SparseMatrix& A);
     /// The finest level's unknowns were renumbered by a cut: row r of the new matrix was row
-    /// old_of[r] of the old one (-1: a new unknown). The interpolation to the finest level keeps
-    /// each surviving row and gives new unknowns zero rows (no coarse correction, only the
-    /// finest level's smoothing); the next apply() prepares the finest level for the new matrix.
+    /// m.old_of[r] of the old one (-1: a new unknown). The interpolation to the finest level
+    /// keeps each surviving row; a new unknown gets the weighted sum of its origins' rows
+    /// (m.origin_*: a node a cut duplicated or created interpolates the coarse space like its
+    /// uncut neighbours), or a zero row without origins (then only the finest level's smoothing
+    /// reaches it); the next apply() prepares the finest level for the new matrix.
     /// False when there is no coarse level.
-    bool remap(const std::vector<long>& old_of);
+    bool remap(const RowRemap& m);
     /// z = B r, one V-cycle from zero with A as the finest operator (n x n like in finish();
     /// its values may have changed, a changed pattern is detected and its diagonal slots found
     /// again). r, z: n. False if A has a missing or non-positive diagonal entry.
     bool apply(const SparseMatrix& A, const Vector& r, Vector& z);
     /// The values of the matrix passed to the next apply() differ from the last one's (a new
     /// solve): the node-block copy is refreshed then. The pattern is checked by apply() itself.
-    void matrix_changed() { m_blocks_stale = true; }
+    void matrix_changed() {
+        m_blocks_stale = true;
+        ++m_solves_since_remap;
+    }
     /// Smooth the finest level by node blocks when its matrix allows (see the file comment);
     /// takes effect at the next finish().
     void set_node_blocks(bool on) { m_node_blocks_wanted = on; }
@@ -88,6 +93,8 @@ public:
     void set_threads(int threads);
     /// Levels including the finest (0 before finish()).
     int levels() const { return m_ready ? int(m_levels.size()) + 1 : 0; }
+    /// Levels smoothed on m_threads > 1 threads (hybrid Gauss-Seidel), the finest included.
+    int threaded_levels() const;
     /// Unknowns of the fine matrix the cycle was finished for (-1 before finish()).
     long size() const { return m_ready ? m_fine_rows : -1; }
     void clear();
@@ -98,7 +105,17 @@ private:
         SortedCsr P; ///< interpolation from this level to the finer one (rows of the finer one)
         Vector inverse_diagonal; ///< 1 / a_ii (n_l)
         Vector b, x, r; ///< right-hand side, iterate, residual (n_l)
+        SortedCsr PT; ///< P^T, made when the restriction runs on threads (rows -1: stale)
+        /// T > 1 and at least kHybridNonzeros entries: hybrid Gauss-Seidel as on the finest
+        /// level, T row blocks of whole nodes (prepare_hybrid; empty: not prepared)
+        std::vector<int> block_rows, own_begin, own_end;
+        Vector l1, hybrid_inverse, cross; ///< l1 terms, 1 / (a_ii + l1_i), cross sums
     };
+    /// Coarse operators with fewer entries are smoothed serially (a parallel region costs a few
+    /// microseconds; the 5k organ's first coarse level has ~160k entries, its last ones < 10k).
+    static constexpr std::size_t kHybridNonzeros = 20000;
+    /// Prepares the level's hybrid blocks for m_threads; false if it is smoothed serially.
+    bool prepare_hybrid(Level& level) const;
     void cycle(std::size_t l, const double* b, double* x);
     /// The finest level's down-sweep, residual and (after the coarse correction) up-sweep with
     /// m_threads row blocks (hybrid Gauss-Seidel).
@@ -125,10 +142,16 @@ private:
     long m_fine_nonzeros = -1;
     std::vector<int> m_fine_diagonal; ///< value slot of each diagonal entry of A
     Vector m_fine_residual;
-    Vector m_fine_inverse_diagonal; ///< of the current matrix, refreshed per apply()
+    /// of the current matrix (with the l1 terms for T > 1), refreshed once per solve
+    Vector m_fine_inverse_diagonal;
     const SparseMatrix* m_A = nullptr; ///< the matrix of the running apply()
     SparseMatrix m_compressed; ///< apply() on an uncompressed matrix: its compressed copy
     Eigen::LLT<Eigen::MatrixXd> m_coarsest;
+    bool m_coarsest_factored = false; ///< m_coarsest holds the coarsest coarse level's factor
+    /// Solves begun since the last remap(): the finest level's P^T is made again only from the
+    /// second one on. While a blade cuts, every tick remaps, and a transpose per tick (~1.2 ms
+    /// on the split organ) cost more than the serial restriction of that tick's few iterations.
+    long m_solves_since_remap = 2;
     bool m_ready = false;
     int m_threads = 1;
     std::vector<int> m_block_rows; ///< T + 1 row bounds of the fine blocks

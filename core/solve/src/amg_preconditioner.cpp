@@ -303,10 +303,10 @@ struct AmgPreconditioner::Impl {
         return cycle.finish(A);
     }
 
-    bool remap(const std::vector<long>& old_of) {
-        if (!use_cycle || n < 0 || !cycle.remap(old_of))
+    bool remap(const RowRemap& m) {
+        if (!use_cycle || n < 0 || !cycle.remap(m))
             return false;
-        n = long(old_of.size());
+        n = long(m.old_of.size());
         return true;
     }
 
@@ -332,6 +332,8 @@ struct AmgPreconditioner::Impl {
         return z.allFinite() ? SolveStatus::Ok : SolveStatus::NonFinite;
     }
 
+    int threaded_levels() const { return use_cycle ? cycle.threaded_levels() : 0; }
+
     int levels() const {
         if (use_cycle)
             return cycle_levels;
@@ -355,8 +357,9 @@ struct AmgPreconditioner::Impl {
     void set_threads(int) { }
     SolveStatus setup(const SparseMatrix&) { return SolveStatus::NotReady; }
     SolveStatus apply(const SparseMatrix&, const Vector&, Vector&) { return SolveStatus::NotReady; }
-    bool remap(const std::vector<long>&) { return false; }
+    bool remap(const RowRemap&) { return false; }
     int levels() const { return 0; }
+    int threaded_levels() const { return 0; }
 };
 
 #endif
@@ -390,6 +393,10 @@ int AmgPreconditioner::levels() const {
     return m_impl->levels();
 }
 
+int AmgPreconditioner::threaded_levels() const {
+    return m_impl->threaded_levels();
+}
+
 void AmgPreconditioner::set_coordinates(const Vector& coordinates) {
     m_impl->coordinates = coordinates;
 }
@@ -402,8 +409,8 @@ void AmgPreconditioner::clear() {
     m_impl->clear();
 }
 
-bool AmgPreconditioner::remap(const std::vector<long>& old_of) {
-    return m_impl->remap(old_of);
+bool AmgPreconditioner::remap(const RowRemap& m) {
+    return m_impl->remap(m);
 }
 
 } // namespace polycut::solve::detail

@@ -37,6 +37,8 @@ public:
     long size() const;
     /// Number of levels of the current hierarchy (0 if none).
     int levels() const;
+    /// Levels the fused cycle smooths on several threads (0: serial or hypre's cycle).
+    int threaded_levels() const;
     /// Node coordinates for the rigid-body modes (AmgOptions::rigid_body_modes): per DOF the
     /// coordinate of its node along the DOF's component (n, interleaved like the DOFs) [m].
     /// Copied; used by the next setup() of a matrix of the same size. Empty: none.
@@ -47,10 +49,10 @@ public:
     void clear();
     /// Exchanges the hierarchies (and settings) of two preconditioners.
     void swap(AmgPreconditioner& other) noexcept { m_impl.swap(other.m_impl); }
-    /// Keeps the hierarchy for a matrix whose unknowns a cut renumbered (row r was old_of[r],
-    /// -1 new): see AmgCycle::remap. False (hierarchy unchanged) when not possible (hypre's own
+    /// Keeps the hierarchy for a matrix whose unknowns a cut renumbered (see RowRemap and
+    /// AmgCycle::remap). False (hierarchy unchanged) when not possible (hypre's own
     /// cycle, no coarse level): set up again then.
-    bool remap(const std::vector<long>& old_of);
+    bool remap(const RowRemap& m);
 
 private:
     struct Impl;

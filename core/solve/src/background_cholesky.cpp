@@ -3,6 +3,8 @@
 // supersedes it.
 #include "polycut/solve/background_cholesky.hpp"
 
+#include "background_priority.hpp"
+
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -40,6 +42,7 @@ struct BackgroundCholesky::Impl {
     }
 
     void run() {
+        detail::run_in_background();
         std::unique_lock lock(mutex);
         for (;;) {
             changed.wait(lock, [this] { return stop || pending.has_value(); });

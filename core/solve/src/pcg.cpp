@@ -6,6 +6,8 @@
 #include "polycut/solve/pcg.hpp"
 
 #include "amg_preconditioner.hpp"
+#include "background_priority.hpp"
+#include "jacobi.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/solve/background_cholesky.hpp"
 #include "two_level.hpp"
@@ -19,42 +21,6 @@
 #include <vector>
 
 namespace polycut::solve {
-
-const char* to_string(Preconditioner p) {
-    switch (p) {
-    case Preconditioner::None:
-        return "none";
-    case Preconditioner::Jacobi:
-        return "jacobi";
-    case Preconditioner::BlockJacobi3:
-        return "block_jacobi3";
-    case Preconditioner::LaggedCholesky:
-        return "lagged_cholesky";
-    case Preconditioner::IncompleteCholesky:
-        return "incomplete_cholesky";
-    case Preconditioner::Amg:
-        return "amg";
-    case Preconditioner::BlockJacobi:
-        return "block_jacobi";
-    case Preconditioner::TwoLevel:
-        return "two_level";
-    }
-    return "unknown";
-}
-
-namespace {
-
-/// Position of entry (row, col) in compressed column storage, or -1.
-long find_entry(const SparseMatrix& A, int row, int col) {
-    const int* inner = A.innerIndexPtr();
-    const int begin = A.outerIndexPtr()[col];
-    const int end
-        = A.isCompressed() ? A.outerIndexPtr()[col + 1] : begin + A.innerNonZeroPtr()[col];
-    const int* it = std::lower_bound(inner + begin, inner + end, row);
-    return (it != inner + end && *it == row) ? it - inner : -1;
-}
-
-} // namespace
 
 struct PcgSolver::Impl {
     PcgOptions options;
@@ -91,12 +57,27 @@ struct PcgSolver::Impl {
     std::future<std::unique_ptr<detail::AmgPreconditioner>> amg_job;
     int amg_handover = -1;
     Vector amg_coordinates;
+    // cuts since the job started: replayed on its hierarchy at the hand-over
+    std::vector<RowRemap> job_remaps;
+    int remaps_since_setup = 0; ///< cuts the installed hierarchy was carried over
+    int threads = 1; ///< of the matrix passes now: options.threads, or 1 (follow_background)
+
+    /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
+    /// count otherwise. Called where the job starts or is handed over: at fixed solves.
+    void follow_background() {
+        const int want = options.amg.background_serial && amg_handover >= 0 ? 1 : options.threads;
+        if (want == threads)
+            return;
+        threads = want;
+        amg.set_threads(want);
+    }
 
     explicit Impl(PcgOptions o)
         : options(o)
         , amg(o.amg) {
         options.threads = std::max(options.threads, 1);
-        amg.set_threads(options.threads);
+        threads = options.threads;
+        amg.set_threads(threads);
         if (options.background_refactor)
             background = std::make_unique<BackgroundCholesky>();
     }
@@ -110,56 +91,10 @@ struct PcgSolver::Impl {
         q.resize(n);
     }
 
-    SolveStatus setup_jacobi(const SparseMatrix& A) {
-        const long n = A.rows();
-        inv_diag.resize(n);
-        for (long j = 0; j < n; ++j) {
-            const long k = find_entry(A, static_cast<int>(j), static_cast<int>(j));
-            const double d = k < 0 ? 0.0 : A.valuePtr()[k];
-            if (!std::isfinite(d))
-                return SolveStatus::NonFinite;
-            if (!(d > 0))
-                return SolveStatus::NotPositiveDefinite;
-            inv_diag[j] = 1.0 / d;
-        }
-        return SolveStatus::Ok;
-    }
+    SolveStatus setup_jacobi(const SparseMatrix& A) { return detail::invert_diagonal(A, inv_diag); }
 
     SolveStatus setup_block_jacobi(const SparseMatrix& A) {
-        const long n = A.rows();
-        const long blocks = n / 3;
-        inv_blocks.resize(static_cast<size_t>(blocks));
-        const int* inner = A.innerIndexPtr();
-        const double* values = A.valuePtr();
-        for (long b = 0; b < blocks; ++b) {
-            Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
-            for (int c = 0; c < 3; ++c) {
-                const int col = static_cast<int>(3 * b + c);
-                const int begin = A.outerIndexPtr()[col];
-                const int end = A.isCompressed() ? A.outerIndexPtr()[col + 1]
-                                                 : begin + A.innerNonZeroPtr()[col];
-                const int* it = std::lower_bound(inner + begin, inner + end, 3 * b);
-                for (; it != inner + end && *it < 3 * b + 3; ++it)
-                    block(*it - 3 * b, c) = values[it - inner];
-            }
-            if (!block.allFinite())
-                return SolveStatus::NonFinite;
-            // a diagonal block of an SPD matrix is SPD
-            const Eigen::LLT<Eigen::Matrix3d> llt(block);
-            if (llt.info() != Eigen::Success)
-                return SolveStatus::NotPositiveDefinite;
-            inv_blocks[static_cast<size_t>(b)] = llt.solve(Eigen::Matrix3d::Identity());
-        }
-        // trailing rows that do not fill a node block: scalar Jacobi
-        inv_diag.resize(n);
-        for (long j = 3 * blocks; j < n; ++j) {
-            const long k = find_entry(A, static_cast<int>(j), static_cast<int>(j));
-            const double d = k < 0 ? 0.0 : values[k];
-            if (!(d > 0))
-                return std::isfinite(d) ? SolveStatus::NotPositiveDefinite : SolveStatus::NonFinite;
-            inv_diag[j] = 1.0 / d;
-        }
-        return SolveStatus::Ok;
+        return detail::invert_node_blocks(A, inv_blocks, inv_diag);
     }
 
     SolveStatus setup_cell_blocks(const SparseMatrix& A) {
@@ -211,11 +146,24 @@ struct PcgSolver::Impl {
     /// PCG iterations from x; adds to `iterations`.
     SolveStatus iterate(const SparseMatrix& A, const Vector& b, Vector& x, double target,
         Preconditioner use, int& iterations) {
-        multiply_symmetric(A, x, q, options.threads);
+        multiply_symmetric(A, x, q, threads);
         r = b - q;
         double r_norm = r.norm();
         if (!std::isfinite(r_norm))
             return SolveStatus::NonFinite;
+        // An initial guess worse than none is dropped: PCG minimizes the error's A-norm, and
+        // |x* - x|_A^2 = |x*|_A^2 + 2 E(x) with E(x) = x.A x / 2 - b.x, so x0 is worse than zero
+        // when E(x0) > 0 (A x0 is at hand: two dot products). The integrator's warm start (the
+        // last step's dv, or its extrapolation) is such a guess when the motion reverses from
+        // step to step, as the lips of a fresh cut ring after a stroke on the 5k organ. There,
+        // PCG needed 10-34 iterations at tolerance 0.3 for ~7 ticks, against 1-3 while cutting,
+        // where every cut restarts from zero. (Comparing |b - A x0| with |b| instead dropped
+        // good guesses too: 5 -> 8 iterations on the sagging organ.)
+        if (x.size() > 0 && 0.5 * x.dot(q) - b.dot(x) > 0) {
+            x.setZero();
+            r = b;
+            r_norm = b.norm();
+        }
         if (r_norm <= target)
             return SolveStatus::Ok;
         if (const SolveStatus s = apply(use, A); s != SolveStatus::Ok)
@@ -225,7 +173,7 @@ struct PcgSolver::Impl {
         for (;;) {
             if (iterations >= options.max_iterations)
                 return SolveStatus::NotConverged;
-            multiply_symmetric(A, p, q, options.threads);
+            multiply_symmetric(A, p, q, threads);
             const double pq = p.dot(q);
             if (!std::isfinite(pq))
                 return SolveStatus::NonFinite;
@@ -260,6 +208,7 @@ struct PcgSolver::Impl {
 
     /// The lagged factor is new: restart the refactor schedule.
     void mark_refactored() {
+        remaps_since_setup = 0;
         solves_since_refactor = 0;
         refactor_requested = false;
         installed = true;
@@ -276,6 +225,7 @@ struct PcgSolver::Impl {
         if (amg_job.valid())
             amg_job.get();
         amg_handover = -1;
+        job_remaps.clear();
     }
 
     /// Starts a set-up of A on a worker thread (A and the coordinates are copied).
@@ -284,6 +234,7 @@ struct PcgSolver::Impl {
         ++refactorizations;
         amg_job = std::async(std::launch::async,
             [A = SparseMatrix(A), coordinates = amg_coordinates, o = options.amg] {
+                detail::run_in_background();
                 auto fresh = std::make_unique<detail::AmgPreconditioner>(o);
                 if (coordinates.size() == A.rows())
                     fresh->set_coordinates(coordinates);
@@ -301,11 +252,19 @@ struct PcgSolver::Impl {
     void finish_amg_job(const SparseMatrix& A) {
         std::unique_ptr<detail::AmgPreconditioner> fresh = amg_job.get();
         amg_handover = -1;
+        std::vector<RowRemap> remaps = std::move(job_remaps);
+        job_remaps.clear();
+        // the cuts since the job started renumbered the unknowns: carry the fresh hierarchy
+        // over them as the installed one was
+        for (const RowRemap& m : remaps)
+            if (fresh && !fresh->remap(m))
+                fresh.reset();
         if (!fresh || fresh->size() != A.rows())
             return;
-        fresh->set_threads(options.threads);
+        fresh->set_threads(threads);
         amg.swap(*fresh);
         mark_refactored();
+        remaps_since_setup = int(remaps.size());
         installed = true;
     }
 
@@ -389,6 +348,7 @@ struct PcgSolver::Impl {
             }
             if (amg_handover > 0)
                 --amg_handover;
+            follow_background();
         }
         if (use == Preconditioner::TwoLevel) {
             if (two_level.space_rows() != A.rows() || block_starts.size() < 2
@@ -522,6 +482,17 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
     return result;
 }
 
+SolveStatus PcgSolver::prepare(const SparseMatrix& A) {
+    Impl& impl = *m_impl;
+    if (impl.options.preconditioner != Preconditioner::Amg || A.rows() == 0 || A.cols() != A.rows()
+        || impl.amg.size() == A.rows())
+        return SolveStatus::Ok;
+    impl.resize(A.rows());
+    impl.amg.matrix_changed();
+    PcgResult unused;
+    return impl.prepare(A, unused); // a missing hierarchy is set up in the foreground
+}
+
 void PcgSolver::set_absolute_tolerance(double tolerance) {
     m_impl->options.absolute_tolerance = std::isfinite(tolerance) ? std::max(tolerance, 0.0) : 0.0;
 }
@@ -555,9 +526,25 @@ void PcgSolver::set_coarse_space(const SparseMatrix& P) {
     m_impl->two_level.set_coarse_space(P);
 }
 
-bool PcgSolver::remap_preconditioner(const std::vector<long>& old_of) {
+bool PcgSolver::remap_preconditioner(const RowRemap& m) {
     Impl& impl = *m_impl;
-    return impl.options.preconditioner == Preconditioner::Amg && impl.amg.remap(old_of);
+    if (impl.options.preconditioner != Preconditioner::Amg || !impl.amg.remap(m))
+        return false;
+    ++impl.remaps_since_setup;
+    if (impl.amg_handover >= 0)
+        impl.job_remaps.push_back(m);
+    return true;
+}
+
+void PcgSolver::request_refresh() {
+    Impl& impl = *m_impl;
+    if (impl.options.preconditioner == Preconditioner::Amg && impl.remaps_since_setup > 0
+        && impl.amg_handover < 0)
+        impl.refactor_requested = true;
+}
+
+int PcgSolver::threads() const {
+    return m_impl->threads;
 }
 
 int PcgSolver::refactorizations() const {
@@ -566,6 +553,10 @@ int PcgSolver::refactorizations() const {
 
 int PcgSolver::amg_levels() const {
     return m_impl->amg.levels();
+}
+
+int PcgSolver::amg_threaded_levels() const {
+    return m_impl->amg.threaded_levels();
 }
 
 const std::string& PcgSolver::setup_error() const {

@@ -17,6 +17,7 @@ Topology extract_topology(const mesh::Mesh& mesh) {
         }
         return std::uint32_t(v);
     };
+    std::vector<Vec3> points;
     for (Index f = 0; f < mesh.num_faces(); ++f) {
         const mesh::Face& face = mesh.faces[std::size_t(f)];
         if (!face.boundary())
@@ -25,7 +26,15 @@ Topology extract_topology(const mesh::Mesh& mesh) {
         const std::uint8_t tag
             = std::uint8_t(face.tag == mesh::FaceTag::Cut ? Tag::Cut : Tag::Skin);
         const Vec3& a = mesh.rest[std::size_t(loop[0])];
-        const double scale = geometry::polygon_area(geometry::gather(mesh.rest, loop));
+        // This runs over every boundary face at every cut: a triangle needs no area, and the
+        // points of a larger loop go into one reused buffer.
+        double scale = 0;
+        if (loop.size() > 3) {
+            points.clear();
+            for (Index n : loop)
+                points.push_back(mesh.rest[std::size_t(n)]);
+            scale = geometry::polygon_area(points);
+        }
         for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
             const Vec3& b = mesh.rest[std::size_t(loop[i])];
             const Vec3& c = mesh.rest[std::size_t(loop[i + 1])];

@@ -41,6 +41,18 @@ struct SceneResult {
     /// while this one was built); absent when no scene was loaded before.
     std::optional<std::int64_t> replaced_tick {};
     double build_ms = 0.0; ///< wall time of the build, on the server's build thread [ms]
+    /// The parts the scene built, in build order, each with its wall time and the resident memory
+    /// it added (sim's build report, docs/scenes.md "What a scene builds"); parts the scene did
+    /// not need are absent.
+    struct BuildPart {
+        std::string name;
+        double ms = 0.0; ///< wall time of building it [ms]
+        /// resident memory added while it was built [KiB] (0 when the allocator reused freed
+        /// memory: an estimate from below)
+        std::int64_t rss_kb = 0;
+        bool operator==(const BuildPart&) const = default;
+    };
+    std::vector<BuildPart> build_parts {};
     bool operator==(const SceneResult&) const = default;
 };
 
@@ -123,6 +135,14 @@ struct Stats {
     /// `contacts`)
     std::vector<ContactReport> contacts;
     double contact_ms = 0.0; ///< contact work of the last tick [ms]
+    /// Cuts since the scene was loaded (issue 12 item 4), in rest space: the area of the cut
+    /// surface, both lips [m^2]; the area the applied sweep triangles swept inside the uncut
+    /// tissue [m^2]; the area swept by cuts that were undone (failed, or taken back with a
+    /// failed step) [m^2]; cut_area / (2 (swept_area + swept_area_undone)) (0 before any cut).
+    double cut_area = 0.0;
+    double swept_area = 0.0;
+    double swept_area_undone = 0.0;
+    double cut_completeness = 0.0;
     bool operator==(const Stats&) const = default;
 };
 

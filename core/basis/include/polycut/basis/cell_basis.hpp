@@ -4,40 +4,9 @@
 
 #include "polycut/basis/cell_integration.hpp"
 #include "polycut/mesh/mesh.hpp"
+#include "polycut/options/basis.hpp"
 
 namespace polycut::basis {
-
-/// Basis for cells that are neither tets nor hexes.
-enum class PolyBasis { MeanValue, Harmonic };
-
-/// Quadrature for polyhedral bases: Wicke's heuristic (vertex + face samples, 000), a reference
-/// rule (centroid tetrahedralization + Gauss, 001), or Monte Carlo (001).
-enum class PolyRule { Heuristic, Reference, MonteCarlo };
-
-/// How a cell integrates the volumetric (dilatational) part of its strain energy.
-enum class VolumetricRule {
-    Full, ///< with the cell's quadrature, like the rest: Q1 and polyhedra lock as nu -> 0.5
-    /// B-bar mean dilatation (Hughes 1980): the cell's average volumetric strain replaces the
-    /// pointwise one, one pressure per cell; no volumetric locking for Q1 hexes and polyhedra.
-    /// P1 tets are unchanged (their strain is constant already).
-    MeanDilatation,
-    /// Averaged nodal dilatation (Bonet & Burton 1998; docs/decisions/0050): cells keep their
-    /// deviatoric stiffness, the volumetric strain energy is taken per node from the
-    /// volume-weighted mean of the cell dilatations around it (one pressure per node). No
-    /// volumetric locking for P1 tets; couples nodes two rings apart (a wider pattern).
-    NodalAverage,
-};
-
-/// Options of the per-cell bases.
-struct BasisOptions {
-    PolyBasis poly = PolyBasis::MeanValue; ///< basis of general polyhedra
-    PolyRule rule = PolyRule::Heuristic; ///< quadrature of general polyhedra
-    int gauss_degree = 2; ///< degree of the tet rule inside PolyRule::Reference
-    /// MFS source offset of the harmonic basis (001 eq. 12), relative to the cell size; at most
-    /// HarmonicOptions::nonconvex_offset for non-convex cells.
-    double harmonic_xi = 0.15;
-    VolumetricRule volumetric = VolumetricRule::Full; ///< elasticity::element_stiffness
-};
 
 /// Integration data of cell `cell` of `mesh` in rest space: P1 for tets (exact, 1 point), Q1 for
 /// hexes (2x2x2 Gauss), the polyhedral basis of `options` otherwise. Throws MeshError naming the

@@ -21,6 +21,16 @@ double area_inside(const mesh::Mesh& mesh, std::span<const Index> cells, const T
 /// The same over all cells of `mesh`, O(cells).
 double area_inside(const mesh::Mesh& mesh, const Triangle& t);
 
+/// Area [m^2] of the rest-space triangle `t` covered by faces an earlier cut made: the boundary
+/// faces tagged Cut of the cells `cells` whose nodes all lie within `tol` [m] of the plane of
+/// `t`, projected onto that plane (the cutter's node snapping distance for cell splitting; for
+/// face snapping, whose cut runs along mesh faces beside the blade, a fraction of a cell), each
+/// covered point counted once, not once per lip. The part of a re-cut's sweep that was cut
+/// already (docs/decisions/0054): the swept area of a stroke is its area inside the tissue minus
+/// this.
+double area_on_cut_faces(
+    const mesh::Mesh& mesh, std::span<const Index> cells, const Triangle& t, double tol);
+
 /// Rest-space area of the boundary faces tagged Cut [m^2]: both lips of every cut.
 double cut_face_area(const mesh::Mesh& mesh);
 

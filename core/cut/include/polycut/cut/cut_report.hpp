@@ -37,6 +37,7 @@ struct CellOrigin {
 struct CutReport {
     Index nodes_before = 0, nodes_after = 0; ///< node counts
     Index cells_before = 0, cells_after = 0; ///< cell counts
+    Index faces_before = 0; ///< face count at the start of the call
     double volume_before = 0, volume_after = 0; ///< total rest volume [m^3]
     std::vector<NodeOrigin> new_nodes; ///< in creation order, ids nodes_before...
     std::vector<std::pair<Index, Index>> duplicated; ///< (original node, copy)
@@ -62,6 +63,11 @@ struct CutReport {
     /// The face table was compacted or rebuilt (sliver merges, merged cut faces, face
     /// snapping's degeneracy removal): face ids before and after the call do not correspond.
     bool faces_renumbered = false;
+    /// When merged cut faces were the call's only compaction (cell splitting): face id before
+    /// the call -> id after it (kNone: merged away), over the faces that existed before the
+    /// call; faces the call appended are not in it. Empty otherwise. The undo journal moves its
+    /// mirror's faces along it instead of copying the whole mesh.
+    std::vector<Index> face_map;
     /// The stiffness sparsity pattern changed (new nodes or new node pairs in a cell); the solver
     /// must re-analyse.
     bool pattern_changed = false;
@@ -71,8 +77,9 @@ struct CutReport {
     /// NodeOrigin weights refer to ids before it.
     std::vector<Index> node_map;
     std::vector<Index> removed_nodes; ///< `tet` only: old ids of nodes removed by edge collapses
-    /// `tet` only: (node id after the call, rest position before the call [m]) of every existing
-    /// node whose rest position the cut moved (snapping onto the sweep, collapses).
+    /// (node id after the call, rest position before the call [m]) of every existing node whose
+    /// rest position the cut moved: face snapping (onto the sweep, collapses) and cell
+    /// splitting (a node snapped onto a sweep triangle's plane moves onto it, decision 0057).
     std::vector<std::pair<Index, Vec3>> moved_nodes;
 };
 

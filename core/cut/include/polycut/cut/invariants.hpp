@@ -39,6 +39,15 @@ struct CutInvariants {
     bool ok() const { return first_problem.empty(); }
 };
 
+/// Convexity violation of cell c: the largest distance of a node of c outside one of its face
+/// planes (each face's Newell normal through its centroid), over the cell's bounding-box
+/// diagonal; 0 for a convex cell.
+double convexity_violation(const mesh::Mesh& mesh, Index c);
+
+/// Why cell c's surface is not closed and consistently oriented ("" when it is): every directed
+/// edge of its outward face loops must appear once, and its reverse once. O(faces of c).
+std::string open_cell_problem(const mesh::Mesh& mesh, Index c);
+
 /// Checks every invariant; O(mesh). `volume_before` is the total rest volume before the cuts.
 CutInvariants check_cut_invariants(
     const mesh::Mesh& mesh, double volume_before, const InvariantOptions& options = {});

@@ -53,7 +53,13 @@ struct CutResult {
     std::size_t deferred = 0; ///< trailing input triangles not consumed (Deferred)
     std::size_t cut = 0; ///< triangles handed to the cutter
     std::size_t skipped = 0; ///< too small at the tissue's scale, or outside it: no change
-    double swept_area = 0; ///< rest area of the cut triangles inside the uncut tissue [m^2]
+    /// Rest area of the cut triangles inside the uncut tissue [m^2]; for Failed, of the
+    /// triangles the failed call was given.
+    double swept_area = 0;
+    /// Tets around the mapped triangles whose deformed volume is negative (the body folded
+    /// there: the world-to-rest map is not one-to-one, so the cut follows the fold only
+    /// approximately; docs/scenes.md "Completeness"). 0 for a body that did not invert.
+    std::size_t inverted_cells = 0;
     /// Rejected: index of the offending input triangle, and its corner (-1 for the whole
     /// triangle); the server turns them into a JSON pointer.
     std::ptrdiff_t rejected_triangle = -1;
@@ -103,6 +109,9 @@ public:
     /// How many calls were mirrored by a whole copy of the mesh (calls that renumbered cells,
     /// faces or nodes); the others copied only what they changed.
     std::uint64_t whole_mesh_copies() const;
+    /// How many mirror syncs moved the mirror's faces along merged cut faces' compactions
+    /// (CutReport::face_map) instead of copying the whole mesh.
+    std::uint64_t mirror_face_moves() const;
     /// Builds the cutter (its adjacency and caches) and the grid of the uncut mesh now, so the
     /// first call does not pay for them.
     void prepare();

@@ -10,13 +10,13 @@
 // so rigid motions and the corotated formulation read as in 003 sec. 7.
 #pragma once
 
+#include "polycut/common/sparse.hpp"
 #include "polycut/dg/cell_basis.hpp"
 #include "polycut/dg/face_integrals.hpp"
 #include "polycut/dg/options.hpp"
 #include "polycut/elasticity/material.hpp"
 #include "polycut/elasticity/model.hpp"
 #include "polycut/mesh/mesh.hpp"
-#include "polycut/solve/sparse.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -80,11 +80,15 @@ public:
     const VecX& mass() const { return m_mass; }
 
     /// Stiffness (3#coeffs square, symmetric, full storage) [N/m] of the linear model.
-    solve::SparseMatrix stiffness() const;
+    SparseMatrix stiffness() const;
     /// Elastic forces (3#coeffs) at generalised positions x and, when K is not null, the
     /// stiffness there (Corotated: sum R K R^T, dR/dx neglected; same pattern as stiffness()).
     /// Corotated mode updates the cached cell rotations.
-    void assemble(const MatX3& x, Warp warp, solve::SparseMatrix* K, VecX* f_int);
+    void assemble(const MatX3& x, Warp warp, SparseMatrix* K, VecX* f_int);
+    /// elasticity::Model::assemble_in_turns: each cell's terms in K carry the rotation they
+    /// were last scattered with; a turn scatters the difference of its cells' warped blocks.
+    bool assemble_in_turns(
+        const MatX3& x, SparseMatrix& K, VecX& f_int, int phase, int period) override;
     /// Rotation of a cell from the last corotated assembly (identity before).
     const Mat3& rotation(Index cell) const { return m_rotation[std::size_t(cell)]; }
     /// Rotation of the affine part of cell c's map at x (polar decomposition, 003 sec. 7).
@@ -111,9 +115,9 @@ public:
     const std::vector<Index>& dof_map() const override { return m_dof_map; }
     const VecX& reduced_mass() const override { return m_reduced_mass; }
     void reduce(const VecX& full, VecX& reduced) const override { reduced = full; }
-    solve::SparseMatrix make_matrix() const override { return m_pattern; }
+    SparseMatrix make_matrix() const override { return m_pattern; }
     void assemble(
-        const MatX3& x, elasticity::ForceMode mode, solve::SparseMatrix* K, VecX* f_int) override {
+        const MatX3& x, elasticity::ForceMode mode, SparseMatrix* K, VecX* f_int) override {
         assemble(
             x, mode == elasticity::ForceMode::Corotated ? Warp::Corotated : Warp::Linear, K, f_int);
     }
@@ -134,7 +138,7 @@ public:
     /// The continuous P1 field on the mesh's nodes (3 columns per node some cell uses), carried
     /// to each cell as the least-squares affine fit of its nodal values (coarse_space.cpp): the
     /// coarse level of the two-level preconditioner (docs/decisions/0024).
-    solve::SparseMatrix coarse_space() const override;
+    SparseMatrix coarse_space() const override;
 
     /// Displacement u at rest point X in cell c from generalised positions x [m].
     Vec3 displacement(const MatX3& x, Index cell, const Vec3& X) const;
@@ -179,9 +183,9 @@ private:
         std::vector<std::vector<int>> off_slots, off_slots_t; ///< (d, c) and (c, d) entries
     };
     std::vector<CellTerms> m_terms;
-    solve::SparseMatrix m_pattern; ///< zero values
-    solve::SparseMatrix m_penalty; ///< the unrotated penalty terms, pattern of m_pattern
-    solve::SparseMatrix m_linear; ///< the linear stiffness, pattern of m_pattern
+    SparseMatrix m_pattern; ///< zero values
+    SparseMatrix m_penalty; ///< the unrotated penalty terms, pattern of m_pattern
+    SparseMatrix m_linear; ///< the linear stiffness, pattern of m_pattern
     std::vector<Index> m_dof_map; ///< identity
     VecX m_reduced_mass; ///< mass per DOF
 
@@ -198,6 +202,13 @@ private:
     MatX3 m_rest;
     VecX m_mass;
     std::vector<Mat3> m_rotation;
+    /// Per cell, the rotation its terms in the caller's K were warped with (assemble_in_turns);
+    /// empty until a full assembly of K.
+    std::vector<Mat3> m_k_rotation;
+    /// Adds cell c's elastic forces at x (its warped volume and face-consistency terms, with
+    /// m_rotation) to f_int.
+    void add_cell_forces(const MatX3& x, Index c, VecX& f_int) const;
+    mutable VecX m_uc, m_ud, m_fc, m_fd; ///< scratch of add_cell_forces()
     Index m_cells_integrated = 0, m_faces_integrated = 0;
 };
 

@@ -9,8 +9,8 @@
 // precomputed as sparse maps (003 eq. 19), so evaluating them per frame is one sparse product.
 #pragma once
 
+#include "polycut/common/sparse.hpp"
 #include "polycut/common/types.hpp"
-#include "polycut/solve/sparse.hpp"
 
 #include <vector>
 
@@ -23,7 +23,7 @@ class Stitching {
 public:
     explicit Stitching(const DgModel& model);
 
-    const solve::SparseMatrix& matrix() const { return m_S; }
+    const SparseMatrix& matrix() const { return m_S; }
     /// Stitched nodal displacements (#nodes x 3) [m] from generalised positions x (#coeffs x 3).
     void displacements(const MatX3& x, MatX3& u) const;
     /// Nodal world positions X_i + u~_i (#nodes) [m].
@@ -36,7 +36,7 @@ public:
 
 private:
     const DgModel* m_model;
-    solve::SparseMatrix m_S;
+    SparseMatrix m_S;
     std::vector<std::uint8_t> m_used;
 };
 
@@ -48,12 +48,12 @@ class MlsEmbedding {
 public:
     MlsEmbedding(const DgModel& model, const std::vector<Vec3>& points, double support = 1.5);
 
-    const solve::SparseMatrix& weights() const { return m_W; }
+    const SparseMatrix& weights() const { return m_W; }
     /// Displacements (#points x 3) [m] from stitched nodal displacements (#nodes x 3).
     void displacements(const MatX3& stitched, MatX3& u) const;
 
 private:
-    solve::SparseMatrix m_W;
+    SparseMatrix m_W;
 };
 
 } // namespace polycut::dg

@@ -7,13 +7,14 @@
 #pragma once
 
 #include "polycut/basis/cell_basis.hpp"
+#include "polycut/common/sparse.hpp"
 #include "polycut/elasticity/material.hpp"
 #include "polycut/elasticity/model.hpp"
 #include "polycut/mesh/mesh.hpp"
-#include "polycut/solve/sparse.hpp"
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace polycut::elasticity {
@@ -54,8 +55,21 @@ public:
     void rest_rows(MatX3& X0) const override;
     const VecX& row_mass() const override { return m_mass; }
     void add_gravity(const Vec3& g, VecX& full) const override;
-    /// Lumped mass per reduced DOF (#free) [kg].
-    const VecX& reduced_mass() const override { return m_reduced_mass; }
+    /// Lumped mass per reduced DOF (#free) [kg]: the inertia of a dynamic step. Made on the first
+    /// call after a change of cells or fixed DOFs, so a static model never builds it (issue 17
+    /// item 6; inertia_built()).
+    const VecX& reduced_mass() const override;
+    /// Whether reduced_mass() was ever asked for (a dynamic integrator's inertia).
+    bool inertia_built() const { return m_inertia_built; }
+    /// Cell integrations (basis functions and quadrature) computed so far, by basis, counting the
+    /// recomputations after cuts: P1 for tets, Q1 for hexes, the polyhedral basis (mean value or
+    /// harmonic) for other cells.
+    struct BasisCounts {
+        long p1 = 0;
+        long q1 = 0;
+        long polyhedral = 0;
+    };
+    const BasisCounts& bases_built() const { return m_bases_built; }
     /// Value slot in the CSC arrays of the diagonal entry of each reduced DOF (#free).
     const std::vector<Index>& diagonal_slots() const { return m_diag_slots; }
     /// Cached integration data and stiffness of a cell.
@@ -72,13 +86,13 @@ public:
 
     /// A reduced matrix (#free x #free) with the model's sparsity pattern, all values zero.
     /// Matrices made before a topology change must be remade.
-    solve::SparseMatrix make_matrix() const override;
+    SparseMatrix make_matrix() const override;
 
     /// Evaluates at world positions x (#N x 3) [m]: into K (reduced, from make_matrix(); may be
     /// null) the stiffness, and into f_int (3#N, resized; may be null) the elastic nodal forces [N]
     /// (including reactions on fixed DOFs). Corotated mode updates the cached cell rotations.
     /// No allocation once K and f_int have the right size.
-    void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) override;
+    void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) override;
 
     /// Elastic energy [J] at x: sum over cells of 1/2 u^T Ke u with the same local displacement u
     /// as the forces (Corotated: rotations of x, warm-started from the cached ones).
@@ -105,7 +119,10 @@ public:
     /// the new ones are recomputed; node ids must not have changed.
     void update_cells(const std::vector<Index>& changed, const std::vector<Index>& cell_map = {});
     /// Recomputes everything from the mesh (new nodes are free; existing DOF masks are kept).
-    void rebuild_topology();
+    /// node_map: the renumbering that made the rebuild necessary (old node id -> new id, kNone
+    /// for a node removed; a face snap's compaction), kept for node_map_since(); empty when
+    /// unknown.
+    void rebuild_topology(std::vector<Index> node_map = {});
     /// Replaces the fixed-DOF mask (3#N) and rebuilds the DOF numbering and pattern.
     void set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs);
     /// Incremented whenever the pattern (and DOF numbering) changes.
@@ -117,6 +134,10 @@ public:
     bool nodes_kept_since(std::uint64_t version) const override {
         return version >= m_renumber_base;
     }
+    const std::vector<Index>* node_map_since(std::uint64_t version) const override {
+        const bool once = version < m_renumber_base && version >= m_previous_renumber_base;
+        return once && !m_node_map.empty() ? &m_node_map : nullptr;
+    }
     /// Incremented whenever cell data (rest shape, Ke) or the fixed DOFs change (update_cells,
     /// rebuild_topology, set_fixed_dofs): a cached stiffness is stale after it moves.
     std::uint64_t cell_version() const override { return m_cell_version; }
@@ -127,7 +148,8 @@ public:
     /// thread the cells across ranges. Every entry thus sums its terms in an order fixed by T:
     /// results are deterministic for a given T, and T = 1 is the plain serial loop. Meshes
     /// numbered for locality (mesh::reorder_for_locality, box grids) leave few cells across
-    /// ranges; after a cut, the new nodes' cells go to the serial part.
+    /// ranges; after a cut, new nodes take the range of the cells that made them, so a cut's
+    /// cells stay in their thread.
     void set_threads(int threads) override;
     int threads() const override { return m_threads; }
     /// Cells of the serial part of a threaded assembly (0 when serial), for reports and tests.
@@ -151,6 +173,8 @@ private:
         double volume = 0; ///< quadrature weight [m^3]
     };
     void compute_cell(Index c);
+    /// compute_cell() for each listed cell, in parallel with the model's threads.
+    void compute_cells(std::span<const Index> cells);
     void rebuild_mass();
     /// rebuild_mass() for the nodes marked in `affected` (#nodes) only: their masses are summed
     /// again over their cells, in the order rebuild_mass() takes, so the result is the same to
@@ -180,7 +204,10 @@ private:
     std::vector<Mat3> m_rotation;
     std::vector<P1Cell> m_p1; ///< per cell; valid for one-point 4-node cells
     VecX m_mass;
-    VecX m_reduced_mass;
+    mutable VecX m_reduced_mass; ///< made by reduced_mass() when m_reduced_mass_stale
+    mutable bool m_reduced_mass_stale = true;
+    mutable bool m_inertia_built = false;
+    BasisCounts m_bases_built;
     std::vector<Index> m_dof_map;
     std::vector<Index> m_free_dofs; ///< reduced -> full
     Index m_num_free = 0;
@@ -192,6 +219,8 @@ private:
     std::vector<Index> m_diag_slots;
     /// Topology version since which node ids are stable (see nodes_kept_since()).
     std::uint64_t m_renumber_base = 0;
+    std::uint64_t m_previous_renumber_base = 0; ///< the one before m_renumber_base
+    std::vector<Index> m_node_map; ///< of the renumbering at m_renumber_base (may be empty)
     // Node-level pattern: neighbours of each node (CSR, sorted), where each neighbour's rows
     // start within the node's columns, and the column length.
     std::vector<std::size_t> m_nb_offset;
@@ -207,6 +236,9 @@ private:
     /// Threaded assembly: cells per thread (all nodes in its range), then the rest (serial).
     std::vector<std::vector<Index>> m_thread_cells;
     std::vector<Index> m_shared_cells;
+    /// Nodes the assembly's node ranges were made on (later nodes, appended by cuts, take the
+    /// range of their cells); 0 until the first partition or after a renumbering.
+    Index m_partition_nodes = 0;
     /// Flat copies for the stretch check (cache-friendly): cell nodes (CSR by cell, rebuilt
     /// with the pattern) and max_k |X_k - X_0|^2 per cell [m^2] (with the cell data).
     std::vector<std::size_t> m_node_offset;

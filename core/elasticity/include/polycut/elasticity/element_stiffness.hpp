@@ -24,4 +24,10 @@ MatX strain_displacement(const MatX3& gradients);
 MatX element_stiffness(const basis::CellIntegration& ci, const Material& material,
     basis::VolumetricRule rule = basis::VolumetricRule::Full);
 
+/// Adds BasisOptions::stabilization (tau) to the stiffness Ke (3n x 3n) of a polyhedral cell with
+/// rest offsets dX (n x 3) from its node centroid and fit gradients G (rotation.hpp):
+/// tau tr(Ke) / 3n (I - P) (x) I3, P the affine least-squares projection of node values
+/// (docs/decisions/0053). Ke u is unchanged for affine u.
+void stabilize_non_affine(MatX& Ke, const MatX3& dX, const MatX3& G, double tau);
+
 } // namespace polycut::elasticity

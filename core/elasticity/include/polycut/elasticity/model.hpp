@@ -4,20 +4,14 @@
 // numbering, a fixed sparsity pattern and corotated forces and stiffness.
 #pragma once
 
+#include "polycut/common/sparse.hpp"
 #include "polycut/common/types.hpp"
 #include "polycut/elasticity/material.hpp"
-#include "polycut/solve/sparse.hpp"
 
 #include <cstdint>
 #include <vector>
 
 namespace polycut::elasticity {
-
-/// How elastic forces and stiffness are evaluated.
-enum class ForceMode {
-    Linear, ///< small-strain linear elasticity, K constant
-    Corotated, ///< per-cell rotation from the affine fit's polar decomposition
-};
 
 /// What integrate::Integrator needs of a model. Rows: the state x is (#rows x 3) [m]; full DOF
 /// vectors are 3#rows long (row-major: 3 row + axis).
@@ -46,11 +40,21 @@ public:
 
     /// A reduced matrix (#free x #free, symmetric, full storage, every diagonal entry stored)
     /// with the model's sparsity pattern, all values zero.
-    virtual solve::SparseMatrix make_matrix() const = 0;
+    virtual SparseMatrix make_matrix() const = 0;
     /// Into K (reduced, from make_matrix(); may be null) the stiffness, into f_int (3#rows,
     /// resized; may be null) the elastic forces [N] at x. Corotated mode updates the cached
     /// cell rotations.
-    virtual void assemble(const MatX3& x, ForceMode mode, solve::SparseMatrix* K, VecX* f_int) = 0;
+    virtual void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) = 0;
+    /// Corotated stiffness re-linearized in turns (IntegratorOptions::stiffness_every = period):
+    /// in K, assembled earlier by a full corotated assemble() and turned since, the terms of the
+    /// cells c with c % period == phase move to the rotations at x, the other cells' terms stay;
+    /// f_int is assembled in full at x. The same lag as re-assembling all of K every period
+    /// steps, spread over the steps instead of spiking one of them. Returns false, changing
+    /// nothing, where the model cannot (the caller then re-assembles K every period steps).
+    virtual bool assemble_in_turns(
+        const MatX3& /*x*/, SparseMatrix& /*K*/, VecX& /*f_int*/, int /*phase*/, int /*period*/) {
+        return false;
+    }
     /// Elastic energy [J] at x, consistent with the forces of `mode`.
     virtual double elastic_energy(const MatX3& x, ForceMode mode) const = 0;
     /// Per cell, the squared stretch at x (1 at rest and under rigid motion; +inf for
@@ -63,6 +67,10 @@ public:
     virtual std::uint64_t topology_version() const = 0;
     /// Whether row ids are the same as at topology version `version`.
     virtual bool nodes_kept_since(std::uint64_t version) const = 0;
+    /// When the rows were renumbered exactly once since topology version `version` and the
+    /// renumbering is known: old row id -> id now (kNone: removed). Null otherwise (also when
+    /// nodes_kept_since(version): nothing to map).
+    virtual const std::vector<Index>* node_map_since(std::uint64_t) const { return nullptr; }
     /// Incremented whenever cell data or fixed DOFs change (a cached stiffness is stale).
     virtual std::uint64_t cell_version() const = 0;
     /// Threads for assemble() (>= 1); a model may ignore it.
@@ -77,7 +85,7 @@ public:
     /// Prolongation (#free x nc) from a coarse space to the reduced DOFs, for a two-level
     /// preconditioner (DG: the continuous P1 field on the mesh nodes, docs/decisions/0024);
     /// empty: none.
-    virtual solve::SparseMatrix coarse_space() const { return {}; }
+    virtual SparseMatrix coarse_space() const { return {}; }
 };
 
 } // namespace polycut::elasticity

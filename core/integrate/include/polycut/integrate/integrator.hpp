@@ -36,6 +36,19 @@ public:
     void set_penalty_field(PenaltyField* field) { m_penalty = field; }
     /// Advances `state` by one step (dt; Static: to equilibrium). Never throws.
     StepReport step(State& state);
+    /// Implicit Euler with an AMG-preconditioned PCG: sets up the hierarchy for the system the
+    /// next step from `state` solves (A = (1 + h alpha) M + (h beta + h^2) K(x), without
+    /// springs or contact), so that the first step does not pay it: a scene load does it off
+    /// the tick (the 5k organ's first server tick took 150-260 ms). Its assembly at state.x is
+    /// kept for the next step if that starts from the same positions, so the step gives the
+    /// same result, bit for bit, as without this call. No-op otherwise; never throws. True when
+    /// it set up.
+    bool prepare(const State& state);
+    /// After a burst of cuts (the end of a stroke): the preconditioner carried over them is
+    /// set up again from the next step's matrix, in the background where the solver allows it
+    /// (LinearSolver::request_refresh). Applies from the next step; the results of a replay are
+    /// the same.
+    void refresh_preconditioner() { m_solver.request_refresh(); }
     /// Total energy [J]: kinetic 1/2 v^T M v + elastic (force mode of the options).
     double energy(const State& state) const;
     /// Largest stretch of any cell in positions `x` (#N x 3) [m]: max over cells of the largest
@@ -64,6 +77,10 @@ public:
 
 private:
     void ensure_topology(StepReport& report);
+    /// How the model's reduced DOFs relate to those of m_dof_map_then after a cut that kept
+    /// the node ids (node_map null) or renumbered them by node_map (old id -> new id), with
+    /// origins for the new DOFs (from the new pattern in m_A).
+    solve::RowRemap row_remap(const std::vector<Index>* node_map) const;
     bool step_implicit(State& s, StepReport& report, double h);
     /// step_implicit with options().energy_guard: halves h while a step gains energy.
     bool step_implicit_guarded(State& s, StepReport& report, double h, int depth);
@@ -117,6 +134,10 @@ private:
     void semi_implicit_penalty_velocity(const State& s, double h, const VecX& M);
     std::uint64_t m_topology = ~std::uint64_t(0);
     std::vector<Index> m_dof_map_then; ///< the model's dof map at m_topology
+    /// prepare(): the positions its assembly (m_K, f_int) was made at, for the next step
+    /// (empty: none), and the model's cell version then
+    MatX3 m_prepared_x;
+    std::uint64_t m_prepared_cells = 0;
     double m_divergence_limit = 0;
     // Work arrays, reused between steps.
     solve::SparseMatrix m_K, m_A;
@@ -125,6 +146,7 @@ private:
     /// (-1: none valid for the current pattern)
     int m_stiffness_age = -1;
     std::uint64_t m_stiffness_cells = 0; ///< model cell_version() of the assembled K_R
+    int m_turn = 0; ///< the cells' turn of Model::assemble_in_turns (stiffness_every > 1)
     VecX
         m_dv_prev; ///< the velocity increment of the step before the last (extrapolated warm start)
     State m_backup;

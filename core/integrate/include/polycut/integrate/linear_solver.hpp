@@ -25,11 +25,18 @@ public:
     explicit LinearSolver(const SolverOptions& options);
     /// Forget factors and preconditioners (after a sparsity pattern change).
     void reset();
-    /// After a cut renumbered the unknowns (row r was old_of[r], -1 new): keep the
-    /// preconditioner if it can be (AMG; solve::PcgSolver::remap_preconditioner). False: call
+    /// After a cut renumbered the unknowns (solve::RowRemap): keep the preconditioner if it can
+    /// be (AMG; solve::PcgSolver::remap_preconditioner). False: call
     /// reset().
-    bool remap(const std::vector<long>& old_of);
+    bool remap(const solve::RowRemap& m);
+    /// PcgAmg: set the hierarchy up again if it was carried over cuts
+    /// (solve::PcgSolver::request_refresh).
+    void request_refresh() { m_pcg.request_refresh(); }
     LinearSolveResult solve(const solve::SparseMatrix& A, const solve::Vector& b, solve::Vector& x);
+    /// PcgAmg: sets up the hierarchy for A ahead of the first solve (solve::PcgSolver::prepare).
+    /// True when a set-up was wanted (an AMG solver).
+    bool prepare(const solve::SparseMatrix& A);
+    bool wants_prepare() const { return m_options.kind == LinearSolverKind::PcgAmg; }
     /// PcgAmg with rigid-body modes: node coordinates of the reduced DOFs (see
     /// solve::PcgSolver::set_coordinates) [m].
     void set_coordinates(const solve::Vector& coordinates) { m_pcg.set_coordinates(coordinates); }
@@ -45,6 +52,8 @@ public:
         return m_options.kind == LinearSolverKind::PcgAmg && m_options.amg.rigid_body_modes;
     }
     const SolverOptions& options() const { return m_options; }
+    /// Threads of the next solve (solve::PcgSolver::threads: 1 while a background set-up runs).
+    int threads() const { return m_pcg.threads(); }
 
 private:
     SolverOptions m_options;

@@ -3,6 +3,11 @@
 #pragma once
 
 #include "polycut/common/types.hpp"
+#include "polycut/options/basis.hpp"
+#include "polycut/options/dg.hpp"
+#include "polycut/options/elasticity.hpp"
+#include "polycut/options/integrate.hpp"
+#include "polycut/options/solve.hpp"
 
 #include <array>
 #include <optional>
@@ -10,6 +15,66 @@
 #include <vector>
 
 namespace polycut::scene {
+
+// Every string option of a scene file is one of these enums, parsed once by parse_scene() (an
+// unknown name is a SceneError naming the JSON pointer and the accepted names). Options that a
+// module owns use the module's own enum and default (the options layer, docs/decisions/0051);
+// the enums below are the scene's own vocabulary. to_string() gives the scene-file name.
+
+/// Element method (DESIGN.md sec. 1).
+enum class Method { Tet, Hex, Mvc, Harmonic, Dg };
+/// Cells of a box grid.
+enum class Elements { Tet, Hex };
+/// How a box block is split into tets.
+enum class TetSplit { Kuhn6, Five };
+/// An implicit shape or a named convex cell (geometry "implicit", "octree", "hex_slice",
+/// "convex_hull"); None when the geometry has no shape.
+enum class Shape { None, Sphere, HollowSphere, Ellipsoid, Capsule, Blob, TruncatedOctahedron };
+/// Node numbering of a CGAL-meshed geometry.
+enum class NodeOrder { Rcm, Mesher };
+/// Treatment of a surface file that is not a clean closed manifold (meshing::RepairMode).
+enum class Repair { Auto, None, Pmp, Wrap };
+/// Which connected components of a surface file are meshed (meshing::ComponentsMode).
+enum class Components { Union, Largest, Refuse };
+/// What an octree geometry embeds.
+enum class OctreeObject { Box, Implicit, SurfaceFile };
+/// Octree cells the surface crosses that are kept.
+enum class OctreeKeep { Centre, Cover };
+/// The linear solver family; with Pcg, the preconditioner picks the variant.
+enum class SolverType { Cholmod, Pcg, CgRelaxation };
+enum class Preconditioner { Jacobi, BlockJacobi, CellBlockJacobi, LaggedCholesky, Amg, TwoLevel };
+/// Initial guess of an implicit step's velocity increment.
+enum class WarmStart { Previous, Extrapolated };
+/// How a region force is spread over its nodes.
+enum class Distribution { Area, Uniform };
+/// Cutting method: cell splitting (000) or face snapping (002, tet only).
+enum class CutMethod { Split, Snap };
+/// A scripted tool's shape.
+enum class ToolShape { Sphere, Capsule, Blade };
+
+const char* to_string(Method);
+const char* to_string(Elements);
+const char* to_string(TetSplit);
+const char* to_string(Shape);
+const char* to_string(NodeOrder);
+const char* to_string(Repair);
+const char* to_string(Components);
+const char* to_string(OctreeObject);
+const char* to_string(OctreeKeep);
+const char* to_string(SolverType);
+const char* to_string(Preconditioner);
+const char* to_string(WarmStart);
+const char* to_string(Distribution);
+const char* to_string(CutMethod);
+const char* to_string(ToolShape);
+const char* to_string(basis::PolyRule);
+const char* to_string(basis::VolumetricRule);
+const char* to_string(dg::Flux);
+const char* to_string(dg::LambdaPenalty);
+const char* to_string(integrate::IntegratorKind);
+/// "newton" or "fixed_point" (Linear: "linear", which a scene file cannot name: it is
+/// corotated false)
+const char* to_string(integrate::StaticMode);
 
 /// Where the mesh comes from.
 struct Geometry {
@@ -33,13 +98,13 @@ struct Geometry {
     /// quadrilateral: Cook's membrane).
     std::vector<Vec3> corners;
     Eigen::Vector3i cells { 4, 4, 4 }; ///< blocks along x, y, z
-    std::string elements = "tet"; ///< "tet" (split blocks) or "hex"
-    std::string tet_split = "kuhn6"; ///< "kuhn6" or "five"
+    Elements elements = Elements::Tet; ///< tets (split blocks) or hexes
+    TetSplit tet_split = TetSplit::Kuhn6;
     int planes_per_cell = 0; ///< RandomPlanes: random planes cutting each block
     unsigned seed = 1; ///< RandomPlanes and meshing: random seed
-    // Implicit; ConvexHull: "truncated_octahedron" or "" (explicit points)
-    /// "sphere", "hollow_sphere", "ellipsoid", "capsule", "blob"; "truncated_octahedron"
-    std::string shape;
+    /// Implicit (and Octree, HexSlice): sphere, hollow_sphere, ellipsoid, capsule, blob;
+    /// ConvexHull: truncated_octahedron or None (explicit points)
+    Shape shape = Shape::None;
     Vec3 center = Vec3::Zero(); ///< Implicit, ConvexHull shape: centre [m]
     Vec3 radii = Vec3::Constant(0.05); ///< semi-axes [m] (sphere, hollow_sphere: radii.x())
     double inner_radius = 0; ///< hollow_sphere: radius of the cavity [m], < radii.x()
@@ -50,12 +115,12 @@ struct Geometry {
     /// that order); meshing::MeshingOptions
     std::vector<std::string> optimize { "perturb", "exude" };
     double sliver_bound = 0; ///< perturb/exude stop when every dihedral angle exceeds it [deg]
-    /// Implicit and SurfaceFile: node numbering, "rcm" (reverse Cuthill-McKee, cells sorted by
-    /// nodes; for locality) or "mesher" (as Mesh_3 inserted them)
-    std::string node_order = "rcm";
+    /// Implicit and SurfaceFile: node numbering, rcm (reverse Cuthill-McKee, cells sorted by
+    /// nodes; for locality) or mesher (as Mesh_3 inserted them)
+    NodeOrder node_order = NodeOrder::Rcm;
     // SurfaceFile: treatment of a surface that is not a clean closed manifold (meshing::repair)
-    std::string repair = "auto"; ///< "auto", "none", "pmp" or "wrap"
-    std::string components = "union"; ///< "union", "largest" or "refuse"
+    Repair repair = Repair::Auto;
+    Components components = Components::Union;
     double wrap_alpha = 0; ///< Alpha_wrap_3 alpha [m]; 0: cell_size
     double wrap_offset = 0; ///< Alpha_wrap_3 offset [m]; 0: cell_size / 30
     // SurfaceFile and MeshFile
@@ -81,51 +146,51 @@ struct Geometry {
         double cell_size = 0; ///< largest cell edge inside [m]
     };
     struct OctreeSettings {
-        std::string object = "box"; ///< "box", "implicit" or "surface_file" (from the keys)
+        OctreeObject object = OctreeObject::Box; ///< from the keys (shape, path or neither)
         double surface_cell_size = 0; ///< largest cell the surface crosses [m]; 0: cell_size
         std::vector<OctreeRegion> regions; ///< boxes refined to their cell_size
         int max_depth = 6; ///< levels below the base cells (regions, surface, refinement)
-        /// cells the surface crosses kept: "centre" (centre inside) or "cover" (all that may
+        /// cells the surface crosses kept: Centre (centre inside) or Cover (all that may
         /// overlap the object)
-        std::string keep = "centre";
+        OctreeKeep keep = OctreeKeep::Centre;
         /// Stress-based refinement (001 sec. 8): after a step, cells whose largest absolute
         /// principal stress exceeds this [Pa] are split 1-to-8, down to max_depth; 0: never
         double refine_stress = 0;
     } octree;
 };
 
-/// Isotropic Hookean material with Rayleigh damping D = alpha M + beta K.
-struct Material {
-    double youngs_modulus = 1e4; ///< E [Pa]
-    double poisson_ratio = 0.45; ///< nu, in [0, 0.5)
-    double density = 1000; ///< rho [kg/m^3]
-    double rayleigh_mass = 0; ///< alpha [1/s]
-    double rayleigh_stiffness = 0; ///< beta [s]
-};
+/// Isotropic Hookean material with Rayleigh damping D = alpha M + beta K: the module's type,
+/// defaults and all (youngs_modulus is required in a scene file).
+using Material = elasticity::Material;
 
-/// Polyhedral basis options (methods mvc and harmonic).
+/// Polyhedral basis options (methods mvc and harmonic); defaults from basis::BasisOptions.
 struct Basis {
-    std::string rule = "heuristic"; ///< mvc: "heuristic" (000 eq. 14-16) or "reference"
-    int gauss_degree = 2; ///< degree of the Gauss rule on the centroid tetrahedralization
-    double harmonic_xi = 0.1; ///< 001 eq. 12 kernel offset, relative to cell size
-    /// Volumetric strain: "full" (the cell's quadrature), "mean_dilatation" (B-bar: one
-    /// pressure per cell, no volumetric locking for hexes and polyhedra near nu = 0.5) or
-    /// "nodal_average" (averaged nodal dilatation: one pressure per node, also for P1 tets)
-    std::string volumetric = "full";
+    /// mvc: Heuristic (000 eq. 14-16) or Reference; harmonic: Reference (Heuristic, meaningful
+    /// for mean value cells only, means Reference there) or MonteCarlo
+    basis::PolyRule rule = basis::BasisOptions {}.rule;
+    /// degree of the Gauss rule on the centroid tetrahedralization
+    int gauss_degree = basis::BasisOptions {}.gauss_degree;
+    /// 001 eq. 12 kernel offset, relative to cell size [dimensionless]
+    double harmonic_xi = basis::BasisOptions {}.harmonic_xi;
+    /// Volumetric strain: Full (the cell's quadrature), MeanDilatation (B-bar: one pressure per
+    /// cell, no volumetric locking for hexes and polyhedra near nu = 0.5) or NodalAverage
+    /// (averaged nodal dilatation: one pressure per node, also for P1 tets)
+    basis::VolumetricRule volumetric = basis::BasisOptions {}.volumetric;
     /// dg: polynomial degree p of every cell's displacement field, 1 or 2
-    int degree = 1;
+    int degree = dg::DgOptions {}.degree;
 };
 
-/// Discontinuous Galerkin options (method dg, seed 003; docs/decisions/0020, 0021).
+/// Discontinuous Galerkin options (method dg, seed 003; docs/decisions/0020, 0021); defaults
+/// from dg::DgOptions.
 struct Dg {
-    std::string flux = "ip"; ///< "ip" (symmetric interior penalty) or "bz" (Babuska-Zlamal)
+    dg::Flux flux = dg::DgOptions {}.flux; ///< symmetric interior penalty or Babuska-Zlamal
     /// alpha of the face penalty eta_F = alpha p^2 |F| / min(|K-|, |K+|) [dimensionless, > 0]
-    double penalty = 10.0;
+    double penalty = dg::DgOptions {}.penalty;
     /// alpha of the Nitsche penalty on fixed (Dirichlet) faces [dimensionless, > 0]
-    double dirichlet_penalty = 100.0;
-    /// "full": (lambda + 2 mu) eta on the whole jump; "normal": 2 mu eta on the whole jump plus
+    double dirichlet_penalty = dg::DgOptions {}.dirichlet_penalty;
+    /// Full: (lambda + 2 mu) eta on the whole jump; Normal: 2 mu eta on the whole jump plus
     /// lambda eta on its normal part (removes volumetric locking near nu = 0.5)
-    std::string lambda_penalty = "full";
+    dg::LambdaPenalty lambda_penalty = dg::DgOptions {}.lambda_penalty;
     /// Stress-based refinement (003 sec. 10): after a step, hex cells whose largest absolute
     /// principal stress exceeds this are split 1-to-8 [Pa]; 0 = off
     double refine_stress = 0;
@@ -133,48 +198,67 @@ struct Dg {
     int refine_levels = 1;
 };
 
+/// Time integration; defaults from integrate::IntegratorOptions.
 struct Integrator {
-    std::string type = "implicit_euler"; ///< "static", "implicit_euler", "semi_implicit_euler"
-    double dt = 0.01; ///< time step [s]
-    bool corotated = true; ///< corotational (true) or linear elasticity
-    std::string static_mode = "newton"; ///< static + corotated: "newton" or "fixed_point"
-    double tolerance = 1e-8; ///< static: stop at ||r|| <= tol ||f_ext||
-    int max_iterations = 100; ///< static: outer iterations
+    integrate::IntegratorKind type = integrate::IntegratorOptions {}.kind;
+    double dt = integrate::IntegratorOptions {}.dt; ///< time step [s]
+    /// corotational (true) or linear elasticity
+    bool corotated = integrate::IntegratorOptions {}.force_mode == elasticity::ForceMode::Corotated;
+    /// static + corotated: CorotatedNewton ("newton") or CorotatedFixedPoint ("fixed_point");
+    /// a static linear scene (corotated false) runs StaticMode::Linear whatever this says
+    integrate::StaticMode static_mode = integrate::IntegratorOptions {}.static_mode;
+    /// static: stop at ||r|| <= tol ||f_ext|| [dimensionless]
+    double tolerance = integrate::IntegratorOptions {}.static_tolerance;
+    int max_iterations = integrate::IntegratorOptions {}.static_max_iterations; ///< static
     /// Threads for assembly and the solver's matrix passes (1 = serial). Results are
     /// deterministic for a given count; different counts agree to round-off.
-    int threads = 1;
+    int threads = integrate::IntegratorOptions {}.threads;
     /// implicit_euler: assemble the corotated stiffness every k steps, reuse it in between
-    int stiffness_every = 1;
+    int stiffness_every = integrate::IntegratorOptions {}.stiffness_every;
     /// implicit_euler: redo a step that gains energy as two half steps (up to 16 substeps;
     /// integrate::IntegratorOptions::energy_guard)
-    bool energy_guard = false;
+    bool energy_guard = integrate::IntegratorOptions {}.energy_guard;
 };
 
+/// Linear solver; defaults from integrate::SolverOptions (whose kind PcgJacobi is type Pcg
+/// with preconditioner Jacobi) and solve::AmgOptions.
 struct Solver {
-    std::string type = "pcg"; ///< "cholmod", "pcg" or "cg_relaxation" (002 sec. 3.1)
-    /// pcg: "jacobi", "block_jacobi", "cell_block_jacobi" (dg: one block per cell),
-    /// "lagged_cholesky", "amg" (hypre BoomerAMG), "two_level" (dg: cell block Jacobi plus a
-    /// P1 coarse space on the nodes, docs/decisions/0024)
-    std::string preconditioner = "jacobi";
-    double tolerance = 1e-6; ///< relative residual
-    double load_tolerance = 0; ///< residual floor as a fraction of h ||f_ext|| (0 = off)
-    int max_iterations = 2000;
+    SolverType type = SolverType::Pcg; ///< cholmod, pcg or cg_relaxation (002 sec. 3.1)
+    /// pcg: jacobi, block_jacobi, cell_block_jacobi (dg: one block per cell), lagged_cholesky,
+    /// amg (hypre BoomerAMG), two_level (dg: cell block Jacobi plus a P1 coarse space on the
+    /// nodes, docs/decisions/0024)
+    Preconditioner preconditioner = Preconditioner::Jacobi;
+    /// relative residual [dimensionless]
+    double tolerance = integrate::SolverOptions {}.relative_tolerance;
+    /// residual floor as a fraction of h ||f_ext|| (0 = off) [dimensionless]
+    double load_tolerance = integrate::SolverOptions {}.load_tolerance;
+    int max_iterations = integrate::SolverOptions {}.max_iterations;
     /// lagged_cholesky, amg: refactor (set up again) every k solves (0 = on demand)
-    int refactor_every = 0;
+    int refactor_every = integrate::SolverOptions {}.refactor_every;
     /// lagged_cholesky, amg: ...or when a solve needed more PCG iterations than this
-    int refactor_iterations = 50;
+    int refactor_iterations = integrate::SolverOptions {}.refactor_iterations;
     /// implicit_euler with pcg / cg_relaxation: initial guess of the velocity increment dv,
-    /// "previous" (dv_{n-1}) or "extrapolated" (2 dv_{n-1} - dv_{n-2})
-    std::string warm_start = "previous";
+    /// Previous (dv_{n-1}) or Extrapolated (2 dv_{n-1} - dv_{n-2})
+    WarmStart warm_start = integrate::IntegratorOptions {}.extrapolate_warm_start
+        ? WarmStart::Extrapolated
+        : WarmStart::Previous;
     /// amg: BoomerAMG set-up (solve::AmgOptions; defaults there)
-    double amg_strong_threshold = 0.5; ///< strength threshold theta in (0, 1)
-    int amg_aggressive_levels = 1; ///< levels coarsened aggressively
-    int amg_interpolation_max_elements = 4; ///< interpolation entries per row (0 = all)
-    bool amg_rigid_body_modes = false; ///< interpolate the rigid rotations too (GM-2)
-    bool amg_node_blocks = false; ///< 3x3 node-block smoothing of the finest level
+    double amg_strong_threshold = solve::AmgOptions {}.strong_threshold; ///< theta in (0, 1)
+    int amg_aggressive_levels = solve::AmgOptions {}.aggressive_levels;
+    /// interpolation entries per row (0 = all)
+    int amg_interpolation_max_elements = solve::AmgOptions {}.interpolation_max_elements;
+    /// unknowns of the coarsest level, solved directly
+    int amg_max_coarse_size = solve::AmgOptions {}.max_coarse_size;
+    bool amg_rigid_body_modes = solve::AmgOptions {}.rigid_body_modes; ///< GM-2 rotations too
+    bool amg_node_blocks = solve::AmgOptions {}.node_blocks; ///< 3x3 node-block smoothing
     /// solves between starting a requested set-up on a worker thread and installing it (0 = set
-    /// up in the foreground, blocking that step)
+    /// up in the foreground, blocking that step). The one scene default that differs from its
+    /// module's on purpose (docs/decisions/0051): solve::AmgOptions sets up in the foreground
+    /// (what a bare solver and the benchmarks want); a scene runs in a loop whose tick a
+    /// ~100 ms set-up would stall, so scenes hand it to a worker.
     int amg_background_solves = 8;
+    /// one thread for the step while a background set-up runs (solve::AmgOptions)
+    bool amg_background_serial = solve::AmgOptions {}.background_serial;
 };
 
 /// Selects nodes by rest position.
@@ -205,7 +289,7 @@ struct Force {
     Vec3 point = Vec3::Zero(); ///< Point: rest-space location [m]
     std::string probe; ///< Point: name of a probe instead of `point`
     Selector region; ///< Region
-    std::string distribution = "area"; ///< Region: "area" or "uniform"
+    Distribution distribution = Distribution::Area; ///< Region: by boundary area or per node
     Vec3 force = Vec3::Zero(); ///< total force [N]
 };
 
@@ -234,8 +318,9 @@ struct Sweep {
 };
 
 struct Cutting {
-    std::string method = "split"; ///< "split" (cell splitting, 000 sec. 5; default except for tet)
-                                  ///< or "snap" (face snapping, 002; default for tet)
+    /// Split (cell splitting, 000 sec. 5; default except for tet) or Snap (face snapping, 002;
+    /// default for tet)
+    CutMethod method = CutMethod::Split;
     /// node snapping distance, relative to the local cell thickness; larger than the cutter's
     /// own default (CutOptions::snap, for exact rest-space cuts) because scene blades reach rest
     /// space through a fit of the deformed body (docs/scenes.md)
@@ -284,7 +369,7 @@ struct Obstacle {
 /// would do with tool_create / tool_move, built into the scene so the runner and a recording
 /// replay it without a client.
 struct ScriptedTool {
-    std::string shape = "sphere"; ///< "sphere", "capsule" or "blade" (sim::ToolSpec)
+    ToolShape shape = ToolShape::Sphere; ///< sim::ToolSpec
     double radius = 0.005; ///< sphere, capsule [m]
     double length = 0.05; ///< capsule axis length [m]
     Vec3 size = Vec3(0.03, 0.01, 0.001); ///< blade edge lengths [m]
@@ -322,7 +407,7 @@ struct Scene {
     std::string description;
     std::string directory; ///< directory of the scene file (for relative paths); "" inline
     Geometry geometry;
-    std::string method = "tet"; ///< "tet", "hex", "mvc", "harmonic", "dg"
+    Method method = Method::Tet;
     Basis basis;
     Dg dg; ///< method dg only
     Material material;
@@ -339,6 +424,10 @@ struct Scene {
     Camera camera;
     Output output;
 };
+
+/// Scene-file names of the geometry and obstacle types.
+const char* to_string(Geometry::Kind);
+const char* to_string(Obstacle::Kind);
 
 /// Parses a scene from JSON text. Throws polycut::SceneError whose where() is a JSON pointer
 /// to the offending field, with what is allowed. Unknown keys are errors. `directory` is used

@@ -5,6 +5,7 @@
 
 #include "polycut/common/types.hpp"
 #include "polycut/scene/scene.hpp"
+#include "polycut/sim/build_report.hpp"
 #include "polycut/sim/tools.hpp"
 
 #include <array>
@@ -88,6 +89,9 @@ struct CutSummary {
     int triangles_skipped = 0;
     /// Rest-space area of the applied triangles inside the uncut tissue [m^2].
     double swept_area = 0;
+    /// Inverted tets around the sweep (cut::CutResult::inverted_cells): the body folded under
+    /// the blade. The next step's report warns about it.
+    int inverted_cells = 0;
     int cells_split = 0;
     int nodes_added = 0;
     int cells_before = 0, cells_after = 0;
@@ -95,8 +99,16 @@ struct CutSummary {
     /// Static scenes: pieces the cut freed from every fixed node, each now fixed at one of its
     /// boundary faces (as 002 sec. 3.3 does) so the static problem stays well posed.
     int pieces_fixed = 0;
+    /// Dynamic scenes: fragments of at most 64 cells the cut freed from every fixed node, held
+    /// where they are (their nodes fixed) instead of falling for ever (docs/scenes.md).
+    int fragments_pinned = 0;
     double cut_ms = 0;
 };
+
+/// cut / (2 swept), 0 before anything was swept (issue 12 item 4).
+inline double cut_completeness(double cut_area, double swept_area) {
+    return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0;
+}
 
 /// Mesh figures the runner reports.
 struct MeshStats {
@@ -108,9 +120,24 @@ struct MeshStats {
     /// Rest-space area the blade swept inside the uncut tissue, summed over the cuts applied
     /// (a re-cut over an earlier cut counts again) [m^2].
     double swept_area = 0;
-    /// cut_area / (2 swept_area): 1 when the cut opened exactly what the blade swept (issue 12
-    /// item 4); 0 before any cut.
-    double completeness() const { return swept_area > 0 ? cut_area / (2 * swept_area) : 0.0; }
+    /// Rest-space area the blade swept inside the uncut tissue in cuts that were undone (a cut
+    /// that failed, or the cuts a failed step took back) [m^2]: uncut, but swept.
+    double swept_area_undone = 0;
+    /// cut_area / (2 (swept_area + swept_area_undone)): 1 when the cut opened exactly what the
+    /// blade swept (issue 12 item 4); 0 before any cut.
+    double completeness() const {
+        return cut_completeness(cut_area, swept_area + swept_area_undone);
+    }
+};
+
+/// The cut figures of MeshStats alone (Simulation::cut_areas, O(faces)).
+struct CutAreas {
+    double cut_area = 0; ///< as MeshStats::cut_area [m^2]
+    double swept_area = 0; ///< as MeshStats::swept_area [m^2]
+    double swept_area_undone = 0; ///< as MeshStats::swept_area_undone [m^2]
+    double completeness() const {
+        return cut_completeness(cut_area, swept_area + swept_area_undone);
+    }
 };
 
 /// Mechanical energy of the current state [J] (issue 17 item 4: with damping and no input, the
@@ -260,6 +287,8 @@ public:
     MeshStats mesh_stats() const;
     /// The embedded surface's figures (all zero without one).
     EmbeddedStats embedded_stats() const;
+    /// Rest-space cut and swept areas without the rest of mesh_stats() (get_stats).
+    CutAreas cut_areas() const;
     /// Kinetic, elastic and gravitational energy of the current state.
     Energy energy() const;
     /// DOFs, nonzeros and cells by kind of the current model.
@@ -275,6 +304,9 @@ public:
     /// What meshing reported while the scene was built (meshed false if the geometry was not
     /// meshed by CGAL). Unchanged by reset() and cuts.
     const MeshingSummary& meshing_summary() const;
+    /// What the scene built and what each part cost at load (build_report.hpp); lazy parts say
+    /// whether they have been built since. reset() builds again and measures again.
+    BuildReport build_report() const;
     /// Node world positions (#N) [m].
     const std::vector<Vec3>& positions() const;
     /// Hash of the whole dynamic state (positions, velocities, topology) for determinism tests.

@@ -96,12 +96,19 @@ public:
     const PcgOptions& options() const;
     /// Forget the preconditioner (call after a sparsity pattern change).
     void reset();
-    /// After a cut renumbered the unknowns (row r of the new system was old_of[r] of the old
-    /// one, -1 for a new unknown): keep the AMG hierarchy, carried over to the new numbering,
-    /// instead of setting it up again (issue 12 item 5: a cut must not cost a blocking set-up;
-    /// the lagged set-up rule sets up again when the solves need it). False when the
-    /// preconditioner cannot be kept (not AMG, no hierarchy): then call reset().
-    bool remap_preconditioner(const std::vector<long>& old_of);
+    /// After a cut renumbered the unknowns (RowRemap: row r of the new system was old_of[r] of
+    /// the old one, -1 for a new unknown, with the new unknowns' origins): keep the AMG hierarchy,
+    /// carried over to the new numbering, instead of setting it up again (issue 12 item 5: a cut
+    /// must not cost a blocking set-up; the lagged set-up rule sets up again when the solves need
+    /// it). False when the preconditioner cannot be kept (not AMG, no hierarchy): then call
+    /// reset().
+    bool remap_preconditioner(const RowRemap& m);
+    /// Amg: when the hierarchy was carried over cuts since its set-up (remap_preconditioner),
+    /// the next solve sets it up again (in the background with AmgOptions::background_solves,
+    /// like a set-up the iteration count asks for). The end of a stroke asks for it: the carried
+    /// coarse operators still couple the lips, and as the cut opens the solves grew from ~5 to
+    /// 20-30 iterations on the 5k organ. No-op otherwise.
+    void request_refresh();
     /// Solves A x = b from the initial guess x. A: symmetric positive definite, full storage.
     /// x: initial guess, replaced by zero if its size differs from A's or it is not finite;
     /// b = 0 gives x = 0 in 0 iterations. Status NotConverged at max_iterations (x is the last
@@ -110,6 +117,11 @@ public:
     /// p^T A p <= 0 or a preconditioner setup meets a non-positive pivot, NonFinite on NaN/Inf
     /// in b or along the iteration. Throws InputError on mismatched sizes.
     PcgResult solve(const SparseMatrix& A, const Vector& b, Vector& x);
+    /// Amg: sets up the hierarchy for A now, as the next solve() would if it has none, so that
+    /// the solve finds it ready (a scene load prepares the first step's set-up off the tick).
+    /// The next solve of A proceeds exactly as without this call. No-op for the other
+    /// preconditioners or when a hierarchy of A's size exists. Status of the set-up.
+    SolveStatus prepare(const SparseMatrix& A);
 
     /// Installs a factor (e.g. from BackgroundCholesky::take()) as the lagged preconditioner and
     /// restarts the refactor schedule. Used by LaggedCholesky only.
@@ -127,10 +139,16 @@ public:
     /// TwoLevel: the prolongation P (n x nc) from the coarse space to the unknowns. Copied; the
     /// next solve sets the preconditioner up again.
     void set_coarse_space(const SparseMatrix& P);
+    /// Threads the next solve's matrix passes use: PcgOptions::threads, or 1 while a background
+    /// set-up runs (AmgOptions::background_serial). The integrator's assembly follows it.
+    int threads() const;
     /// Number of lagged factorizations (or AMG set-ups) done so far (foreground and background).
     int refactorizations() const;
     /// Amg: levels of the current hierarchy (0 before the first set-up).
     int amg_levels() const;
+    /// Amg: levels the cycle smooths on several threads (hybrid Gauss-Seidel: the finest, and
+    /// each coarse level of at least 20,000 entries); 0 on one thread.
+    int amg_threaded_levels() const;
     /// Why the preconditioner set-up last returned NotReady (e.g. hypre/MPI unusable), or "".
     const std::string& setup_error() const;
 

@@ -2,11 +2,14 @@
 // symmetric storage (both triangles), 32-bit indices.
 #pragma once
 
+#include "polycut/common/sparse.hpp"
+
 #include <Eigen/SparseCore>
+#include <vector>
 
 namespace polycut::solve {
 
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using SparseMatrix = polycut::SparseMatrix; ///< defined in common (models hand it out)
 using Vector = Eigen::VectorXd;
 
 /// Outcome of a linear solve.
@@ -20,6 +23,19 @@ enum class SolveStatus {
 
 /// Name of a status ("ok", "not_positive_definite", ...), for step reports.
 const char* to_string(SolveStatus s);
+
+/// How the unknowns of a system relate to those of an earlier one after a cut renumbered them
+/// (issue 12 item 5: a preconditioner is carried over instead of set up again).
+struct RowRemap {
+    /// old_of[r]: the earlier row of row r, or -1 for a new unknown.
+    std::vector<long> old_of;
+    /// For new unknowns: where they come from, as weighted earlier rows (weights summing to 1,
+    /// e.g. the same component of the node's uncut neighbours). CSR over the new rows:
+    /// origin_ptr has old_of.size() + 1 entries, or none (new unknowns have no origin).
+    std::vector<int> origin_ptr;
+    std::vector<long> origin_row;
+    std::vector<double> origin_weight;
+};
 
 /// y = A x for a symmetric A in full storage, computed row-wise as y_j = A(:,j) . x (a gather:
 /// no scattered writes, one accumulator per row). A: n x n, x: n; y is resized to n (no
