@@ -147,7 +147,7 @@ std::string describe_open_edges(const embed::Embedding& e) {
             continue;
         const Vec3 &a = e.rest[edge.first], &b = e.rest[edge.second];
         char line[256];
-        std::snprintf(line, sizeof line, "%u-%u (%.6f %.19f %.6f)-(%.6f %.19f %.6f) lip %d\n",
+        std::snprintf(line, sizeof line, "%u-%u (%.17g %.17g %.17g)-(%.17g %.17g %.17g) lip %d\n",
             edge.first, edge.second, a.x(), a.y(), a.z(), b.x(), b.y(), b.z(),
             int(e.lip[ts.front()]));
         out += line;

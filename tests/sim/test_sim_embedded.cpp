@@ -124,6 +124,28 @@ int open_edges(const std::vector<std::uint32_t>& tri) {
     }
     return bad;
 }
+/// The edges open_edges() counts, with their ends' positions and the tag of a triangle at each.
+std::string describe_open_edges(const sim::Surface& s) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::size_t>> at;
+    for (std::size_t t = 0; t < s.triangles.size() / 3; ++t)
+        for (int k = 0; k < 3; ++k)
+            at[{ s.triangles[3 * t + std::size_t(k)], s.triangles[3 * t + std::size_t((k + 1) % 3)] }]
+                .push_back(t);
+    std::string out;
+    for (const auto& [e, ts] : at) {
+        const auto it = at.find({ e.second, e.first });
+        if (ts.size() == 1 && it != at.end() && it->second.size() == 1)
+            continue;
+        char line[256];
+        const float* a = &s.positions[3 * e.first];
+        const float* b = &s.positions[3 * e.second];
+        std::snprintf(line, sizeof line, "%u-%u (%.7g %.7g %.7g)-(%.7g %.7g %.7g) x%zu tag %d\n",
+            e.first, e.second, a[0], a[1], a[2], b[0], b[1], b[2], ts.size(),
+            int(s.tags[ts.front()]));
+        out += line;
+    }
+    return out;
+}
 } // namespace
 
 TEST(SimEmbedded, ACutSplitsTheSkinAndClosesItWithDetailedLips) {
@@ -202,7 +224,8 @@ TEST(SimEmbedded, AStrokeOverTicksKeepsTheSurfaceClosed) {
         applied += c.status == sim::CutSummary::Status::Applied;
         ASSERT_FALSE(s.step().rolled_back) << k;
         const sim::Surface now = s.surface();
-        ASSERT_EQ(open_edges(now.triangles), 0) << "after sweep " << k;
+        ASSERT_EQ(open_edges(now.triangles), 0) << "after sweep " << k << "\n"
+                                                << describe_open_edges(now);
         EXPECT_TRUE(s.embedded_stats().split);
     }
     s.end_stroke();

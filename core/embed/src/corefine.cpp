@@ -8,6 +8,8 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Surface_mesh.h>
+#include <cmath>
+#include <map>
 #include <string>
 
 namespace polycut::embed::detail {
@@ -72,10 +74,76 @@ TriangleSet from_cgal(const SMesh& m) {
     return out;
 }
 
+/// Drops the triangles with a repeated corner after `index` renumbered the vertices.
+void renumber(TriangleSet& s, const std::vector<std::uint32_t>& index) {
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+        auto tri = s.triangles[t];
+        for (std::uint32_t& v : tri)
+            v = index[v];
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
+            continue;
+        s.triangles[kept] = tri;
+        s.origin[kept] = s.origin[t];
+        ++kept;
+    }
+    s.triangles.resize(kept);
+    s.origin.resize(kept);
+}
+
+/// Welds the points of both meshes that lie within `tol` of each other (two exact points a
+/// rounding apart: a skin edge on a line where the cut folds by a rounding-sized angle, a cut
+/// node 1e-19 m off a skin vertex an earlier split made): in each mesh they become its first
+/// vertex of the cluster, at the cluster's first position (the patch's input vertices come
+/// first, so the skin keeps its vertices where they were), and the triangles that collapse are
+/// dropped. Returns the patch's old -> new index.
+std::vector<std::uint32_t> weld_near(TriangleSet& patch, TriangleSet& cut, double tol) {
+    const double h = std::max(2 * tol, 1e-300);
+    using Cell = std::array<long long, 3>;
+    auto cell_of = [&](const Vec3& p) {
+        return Cell { (long long)std::floor(p.x() / h), (long long)std::floor(p.y() / h),
+            (long long)std::floor(p.z() / h) };
+    };
+    std::map<Cell, std::vector<std::uint32_t>> grid; // cluster ids
+    std::vector<Vec3> where; // each cluster's position
+    auto cluster_of = [&](const Vec3& p) {
+        const Cell c = cell_of(p);
+        for (long long i = -1; i <= 1; ++i)
+            for (long long j = -1; j <= 1; ++j)
+                for (long long k = -1; k <= 1; ++k)
+                    if (const auto it = grid.find({ c[0] + i, c[1] + j, c[2] + k });
+                        it != grid.end())
+                        for (const std::uint32_t id : it->second)
+                            if ((where[id] - p).norm() <= tol)
+                                return id;
+        where.push_back(p);
+        grid[c].push_back(std::uint32_t(where.size() - 1));
+        return std::uint32_t(where.size() - 1);
+    };
+    auto weld = [&](TriangleSet& s) {
+        std::vector<std::uint32_t> index(s.points.size());
+        std::map<std::uint32_t, std::uint32_t> first; // cluster -> vertex of s
+        bool any = false;
+        for (std::uint32_t v = 0; v < s.points.size(); ++v) {
+            const std::uint32_t c = cluster_of(s.points[v]);
+            const auto [it, fresh] = first.emplace(c, v);
+            index[v] = it->second;
+            any = any || !fresh || s.points[v] != where[c];
+            s.points[v] = where[c];
+        }
+        if (any)
+            renumber(s, index);
+        return index;
+    };
+    std::vector<std::uint32_t> index = weld(patch);
+    weld(cut);
+    return index;
+}
+
 } // namespace
 
 Corefined corefine_patch(const TriangleSet& patch, const TriangleSet& cut,
-    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& constrained) {
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& constrained, double tol) {
     namespace PMP = CGAL::Polygon_mesh_processing;
     SMesh a = to_cgal(patch, "surface");
     SMesh b = to_cgal(cut, "cut");
@@ -98,10 +166,13 @@ Corefined corefine_patch(const TriangleSet& patch, const TriangleSet& cut,
     // happen in corefinement), so from_cgal's order is the index order.
     out.patch = from_cgal(a);
     out.cut = from_cgal(b);
+    const std::vector<std::uint32_t> patch_index = weld_near(out.patch, out.cut, tol);
     for (const auto e : a.edges())
         if (ecm[e]) {
-            std::uint32_t u = std::uint32_t(a.vertex(e, 0).idx()),
-                          v = std::uint32_t(a.vertex(e, 1).idx());
+            std::uint32_t u = patch_index[a.vertex(e, 0).idx()],
+                          v = patch_index[a.vertex(e, 1).idx()];
+            if (u == v)
+                continue;
             if (u > v)
                 std::swap(u, v);
             out.constrained.emplace_back(u, v);

@@ -24,6 +24,9 @@ struct TriangleSet {
 /// What corefine_patch() gives back.
 struct Corefined {
     /// The patch refined: its input vertices keep their indices (0 .. #input - 1), new ones follow.
+    /// Points within the welding tolerance of each other (in either mesh) are one vertex at one
+    /// position in both (the others are left unused, the triangles that collapse between them
+    /// dropped); the patch's input vertices keep their positions.
     TriangleSet patch;
     /// The cut refined: its input vertices keep their indices, new ones follow.
     TriangleSet cut;
@@ -34,8 +37,10 @@ struct Corefined {
 
 /// Corefines `patch` (a manifold triangle patch, possibly with a border) with `cut` (triangles
 /// of the cut surface, possibly with a border); `constrained` are edges of the patch (vertex
-/// pairs) to keep marked. Throws polycut::Error if CGAL cannot (a self-intersecting input).
+/// pairs) to keep marked; `tol` [m] is the welding tolerance of the output (rounding: exact
+/// crossings a rounding apart are one point). Throws polycut::Error if CGAL cannot (a
+/// self-intersecting input).
 Corefined corefine_patch(const TriangleSet& patch, const TriangleSet& cut,
-    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& constrained);
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& constrained, double tol);
 
 } // namespace polycut::embed::detail

@@ -16,6 +16,7 @@
 #include "polycut/embed/split.hpp"
 
 #include "corefine.hpp"
+#include "cut_surface.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/common/stats.hpp"
 #include "polycut/geometry/polygon.hpp"
@@ -28,25 +29,12 @@ namespace polycut::embed {
 
 namespace {
 
-using Key = std::array<double, 3>;
-Key key_of(const Vec3& p) {
-    return { p.x(), p.y(), p.z() };
-}
+using detail::Box;
+using detail::Key;
+using detail::key_of;
 
 /// How far into its side a probe sits, as a fraction of the way to a triangle's centroid.
 constexpr double kProbeStep = 1e-3;
-
-struct Box {
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-    Vec3 hi = -Vec3::Constant(std::numeric_limits<double>::infinity());
-    void add(const Vec3& p) {
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
-    }
-    bool overlaps(const Box& b, double pad) const {
-        return (lo.array() <= b.hi.array() + pad).all() && (b.lo.array() <= hi.array() + pad).all();
-    }
-};
 
 /// The copy among `ids` whose probe lies furthest on the -n side of its rest position: the
 /// copy in the material behind a face of outward normal n.
@@ -158,99 +146,15 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
     // side is taken: faces sharing an edge are on the same side when their normals agree (on
     // opposite sides across the crack front, where the lips fold), and a face whose rest
     // polygon is another's is on the other side (parity union-find).
-    std::vector<Index> faces;
-    std::vector<Vec3> normal;
-    for (const Index f : cut_faces) {
-        if (f < 0 || f >= mesh.num_faces())
-            continue;
-        const mesh::Face& face = mesh.faces[std::size_t(f)];
-        if (!face.boundary() || face.tag != mesh::FaceTag::Cut || face.nodes.size() < 3)
-            continue;
-        std::vector<Vec3> loop;
-        for (const Index n : face.nodes)
-            loop.push_back(mesh.rest[std::size_t(n)]);
-        faces.push_back(f);
-        normal.push_back(geometry::polygon_normal(loop));
-    }
+    detail::CutSurface surface = detail::build_cut_surface(mesh, cut_faces);
+    const std::vector<Index>& faces = surface.faces;
+    const std::vector<Vec3>& normal = surface.normal;
+    const detail::TriangleSet& cut = surface.cut;
+    const std::vector<std::size_t>& cut_face = surface.triangle_face;
+    const std::vector<Box>& cut_box = surface.triangle_box;
+    const Box& all = surface.all;
+    const auto& side_node = surface.side_node;
     report.cut_faces = faces.size();
-    std::vector<std::size_t> parent(faces.size());
-    std::vector<char> parity(faces.size(), 0); // relative to the parent
-    std::iota(parent.begin(), parent.end(), std::size_t(0));
-    auto side_of = [&](std::size_t i) {
-        char p = 0;
-        while (parent[i] != i) {
-            p ^= parity[i];
-            i = parent[i];
-        }
-        return std::make_pair(i, p);
-    };
-    auto unite = [&](std::size_t a, std::size_t b, char differ) {
-        const auto [ra, pa] = side_of(a);
-        const auto [rb, pb] = side_of(b);
-        if (ra != rb) {
-            parent[rb] = ra;
-            parity[rb] = char(pa ^ pb ^ differ);
-        }
-    };
-    {
-        std::map<std::pair<Index, Index>, std::size_t> edge_face;
-        std::map<std::vector<Key>, std::size_t> polygon_face;
-        for (std::size_t i = 0; i < faces.size(); ++i) {
-            const mesh::Face& face = mesh.faces[std::size_t(faces[i])];
-            std::vector<Key> sorted;
-            for (std::size_t k = 0; k < face.nodes.size(); ++k) {
-                const Index a = face.nodes[k], b = face.nodes[(k + 1) % face.nodes.size()];
-                sorted.push_back(key_of(mesh.rest[std::size_t(a)]));
-                const auto [it, fresh] = edge_face.emplace(std::minmax(a, b), i);
-                if (!fresh)
-                    unite(it->second, i, normal[it->second].dot(normal[i]) < 0);
-            }
-            std::sort(sorted.begin(), sorted.end());
-            const auto [it, fresh] = polygon_face.emplace(std::move(sorted), i);
-            if (!fresh)
-                unite(it->second, i, 1);
-        }
-    }
-    detail::TriangleSet cut;
-    std::vector<std::size_t> cut_face; ///< index into `faces` of each cut triangle
-    std::vector<char> kept(faces.size(), 0);
-    std::map<Key, Index> side_node[2]; ///< nodes of each side's faces, by rest position
-    std::map<Key, std::uint32_t> cut_vertex;
-    std::vector<Box> cut_box;
-    Box all;
-    auto cut_vertex_of = [&](const Vec3& p) {
-        const auto [it, fresh] = cut_vertex.emplace(key_of(p), std::uint32_t(cut.points.size()));
-        if (fresh)
-            cut.points.push_back(p);
-        return it->second;
-    };
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-        const mesh::Face& face = mesh.faces[std::size_t(faces[i])];
-        const int side = side_of(i).second;
-        for (const Index n : face.nodes)
-            side_node[side].emplace(key_of(mesh.rest[std::size_t(n)]), n);
-        if (side)
-            continue;
-        kept[i] = 1;
-        std::vector<Vec3> loop;
-        for (const Index n : face.nodes)
-            loop.push_back(mesh.rest[std::size_t(n)]);
-        const double area = geometry::polygon_area(loop);
-        for (std::size_t k = 1; k + 1 < loop.size(); ++k) {
-            const Vec3 &a = loop[0], &b = loop[k], &c = loop[k + 1];
-            if (!((b - a).cross(c - a).norm() > 1e-10 * area))
-                continue;
-            cut.triangles.push_back({ cut_vertex_of(a), cut_vertex_of(b), cut_vertex_of(c) });
-            cut_face.push_back(i);
-            Box box;
-            box.add(a);
-            box.add(b);
-            box.add(c);
-            all.add(box.lo);
-            all.add(box.hi);
-            cut_box.push_back(box);
-        }
-    }
     report.cut_triangles = cut.triangles.size();
     // A cut over ground an earlier one split (a Cut face that grew: the blade carried on
     // through a cell it had only entered): the skin there is already split along the earlier
@@ -271,6 +175,8 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
                     && on_triangle(
                         p, cut.points[tri[0]], cut.points[tri[1]], cut.points[tri[2]], kOnCut)) {
                     report.overlaps_earlier_cut = true;
+                    if (getenv("CUTDBG"))
+                        fprintf(stderr, "overlap\n");
                     report.total_ms = watch.ms();
                     return report;
                 }
@@ -395,9 +301,25 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
             }
     }
 
+    // The cut meets the skin's vertices exactly where it passes them within rounding.
+    detail::fit_to_skin(surface, patch.points);
+
     // 3. Corefinement.
     const Stopwatch cgal_watch;
-    const detail::Corefined refined = detail::corefine_patch(patch, cut, seams);
+    const detail::Corefined refined = detail::corefine_patch(patch, cut, seams, surface.tolerance);
+    if (getenv("CUTDBG")) {
+        std::map<Key, int> count;
+        for (const Vec3& q : refined.patch.points)
+            if (++count[key_of(q)] == 2)
+                fprintf(stderr, "duplicate refined patch point %.17g %.17g %.17g\n", q.x(), q.y(), q.z());
+        std::map<Key, int> count2;
+        for (const Vec3& q : refined.cut.points)
+            if (++count2[key_of(q)] == 2)
+                fprintf(stderr, "duplicate refined cut point %.17g %.17g %.17g\n", q.x(), q.y(), q.z());
+    }
+    if (getenv("CUTDBG"))
+        fprintf(stderr, "split: %zu faces %zu cut triangles %zu patch, %zu seams, copies %zu\n",
+            faces.size(), cut.triangles.size(), patch.triangles.size(), seams.size(), state.copies.size());
     report.corefine_ms = cgal_watch.ms();
     const detail::TriangleSet& rp = refined.patch;
     std::set<std::pair<std::uint32_t, std::uint32_t>> constrained(
@@ -615,15 +537,25 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
             continue;
         const std::size_t i = cut_face[rc.origin[t]];
         const mesh::Face& face = mesh.faces[std::size_t(faces[i])];
+        std::array<std::array<std::uint32_t, 3>, 2> out {};
         for (int side = 0; side < 2; ++side) {
             // Outward: along the kept face's normal on its side, against it on the other.
             const Vec3 n = side == 0 ? normal[i] : Vec3(-normal[i]);
-            std::array<std::uint32_t, 3> out {};
             for (int k = 0; k < 3; ++k)
-                out[std::size_t(k)] = lip_corner(rc.points[tri[std::size_t(k)]], face, side, n);
+                out[side][std::size_t(k)]
+                    = lip_corner(rc.points[tri[std::size_t(k)]], face, side, n);
             if (nt_.dot(n) < 0)
-                std::swap(out[1], out[2]);
-            e.triangles.insert(e.triangles.end(), out.begin(), out.end());
+                std::swap(out[side][1], out[side][2]);
+        }
+        // All three corners on the crack front (nodes both sides share): the two lips are one
+        // triangle back to back and move alike; neither is made.
+        std::array<std::uint32_t, 3> first = out[0], second = out[1];
+        std::sort(first.begin(), first.end());
+        std::sort(second.begin(), second.end());
+        if (first == second)
+            continue;
+        for (const auto& lip : out) {
+            e.triangles.insert(e.triangles.end(), lip.begin(), lip.end());
             e.lip.push_back(1);
             ++report.lip_triangles_added;
         }
