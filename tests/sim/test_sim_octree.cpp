@@ -262,7 +262,20 @@ TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
     const Vec3 blade(0, 0, -0.045);
     const int samples = 24;
     auto at = [&](int k) { return Vec3(-0.035 + 0.07 * k / samples, 0.0025, 0.05); };
-    int applied = 0, undone = 0;
+    auto open_edges = [](const sim::Surface& surface) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+        for (std::size_t t = 0; t < surface.triangles.size(); t += 3)
+            for (int k = 0; k < 3; ++k)
+                ++edges[{ surface.triangles[t + std::size_t(k)],
+                    surface.triangles[t + std::size_t((k + 1) % 3)] }];
+        int open_count = 0;
+        for (const auto& [edge, uses] : edges) {
+            const auto back = edges.find({ edge.second, edge.first });
+            open_count += uses != 1 || back == edges.end() || back->second != 1;
+        }
+        return open_count;
+    };
+    int applied = 0, undone = 0, open_sweeps = 0;
     std::vector<double> embed_ms, split_ms, corefine_ms, patch, reembedded, cut_ms;
     for (int k = 0; k < samples; ++k) {
         const Vec3 a = at(k), b = at(k + 1);
@@ -285,6 +298,7 @@ TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
             << k << ": " << (r.warnings.empty() ? "" : r.warnings.front());
         undone += r.cut_undone;
         step_ms.push_back(r.step_ms);
+        open_sweeps += open_edges(s.surface()) > 0;
     }
     s.end_stroke();
     for (int i = 0; i < 20; ++i)
@@ -300,20 +314,11 @@ TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
     EXPECT_GT(lips, 0u);
     // The detailed surface is split along the cut (decision 0033): closed and oriented, its
     // lips carry tag 2.
-    {
-        std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
-        for (std::size_t t = 0; t < cut.triangles.size(); t += 3)
-            for (int k = 0; k < 3; ++k)
-                ++edges[{ cut.triangles[t + std::size_t(k)],
-                    cut.triangles[t + std::size_t((k + 1) % 3)] }];
-        int open_count = 0;
-        for (const auto& [edge, uses] : edges) {
-            const auto back = edges.find({ edge.second, edge.first });
-            open_count += uses != 1 || back == edges.end() || back->second != 1;
-        }
-        EXPECT_EQ(open_count, 0);
-        EXPECT_GT(cut.triangles.size(), 3 * std::size_t(79872)); // the skin was split
-    }
+    EXPECT_EQ(open_edges(cut), 0);
+    EXPECT_GT(cut.triangles.size(), 3 * std::size_t(79872)); // the skin was split
+    // Between sweeps the published surface may be open for a tick where a lip pair meets the
+    // crack front at a skin vertex (decision 0033, "Not done"); measured 2 of 24.
+    EXPECT_LE(open_sweeps, 3);
     auto median = [](std::vector<double> v) {
         if (v.empty())
             return 0.0;
@@ -326,11 +331,12 @@ TEST(OctreeScene, ShippedOrganOctreeIsCutLive) {
     std::printf(
         "organ_octree split per cut (%zu cuts): embed %.1f ms median / %.1f max (split %.1f "
         "/ %.1f, CGAL corefine %.1f / %.1f), patch %.0f / %.0f of %zu skin triangles, "
-        "%.0f / %.0f vertices re-embedded; cut_ms %.1f / %.1f\n",
+        "%.0f / %.0f vertices re-embedded; cut_ms %.1f / %.1f; %d of %d sweeps left the surface "
+        "open until the next\n",
         embed_ms.size(), median(embed_ms), largest(embed_ms), median(split_ms), largest(split_ms),
         median(corefine_ms), largest(corefine_ms), median(patch), largest(patch),
         std::size_t(79872), median(reembedded), largest(reembedded), median(cut_ms),
-        largest(cut_ms));
+        largest(cut_ms), open_sweeps, samples);
     std::sort(step_ms.begin(), step_ms.end());
     std::printf("organ_octree: %ld DOFs (%ld hexes, %ld polyhedra), %d of %d sweeps applied, %d "
                 "undone by the next step, cut area %.2f cm^2, %zu lip triangles, step median %.1f "

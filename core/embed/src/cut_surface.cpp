@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <set>
 #include <unordered_map>
 
 namespace polycut::embed::detail {
@@ -157,6 +158,84 @@ void triangulate(CutSurface& s) {
     update_boxes(s);
 }
 
+/// Where a cut face ends on the mesh's skin, the cut surface is carried on outward in the
+/// face's plane by a face's size: the detailed surface is not the mesh's boundary (a coarse
+/// mesh's facets chord inside it; an octree keeps the leaves whose centre is inside), so a cut
+/// that reached the mesh's boundary has parted the material up to the detailed surface, which
+/// must be split there too. Only the part inside the detailed surface becomes lips. Each border
+/// corner moves along the mean of its border edges' outward directions, so the extension's
+/// quads share their corners.
+void extend_past_the_mesh(
+    CutSurface& s, const mesh::Mesh& mesh, const std::map<Index, std::uint32_t>& welded) {
+    std::set<std::pair<Index, Index>> skin_edges;
+    for (const mesh::Face& face : mesh.faces)
+        if (face.boundary() && face.tag == mesh::FaceTag::Skin)
+            for (std::size_t k = 0; k < face.nodes.size(); ++k)
+                skin_edges.insert(std::minmax(face.nodes[k], face.nodes[(k + 1) % face.nodes.size()]));
+    struct Border {
+        std::uint32_t a, b;
+        std::size_t face;
+    };
+    std::vector<Border> border;
+    std::map<std::uint32_t, Vec3> outward;
+    double reach = 2 * s.edge_length;
+    for (const auto& [i, corners] : s.loops) {
+        const auto& nodes = mesh.faces[std::size_t(s.faces[i])].nodes;
+        Vec3 centre = Vec3::Zero();
+        for (const Index n : nodes)
+            centre += mesh.rest[std::size_t(n)] / double(nodes.size());
+        for (const Index n : nodes)
+            reach = std::max(reach, 2 * (mesh.rest[std::size_t(n)] - centre).norm());
+        for (std::size_t k = 0; k < nodes.size(); ++k) {
+            const Index na = nodes[k], nb = nodes[(k + 1) % nodes.size()];
+            if (!skin_edges.count(std::minmax(na, nb)))
+                continue;
+            const std::uint32_t a = welded.at(na), b = welded.at(nb);
+            if (a == b)
+                continue;
+            const Vec3 &pa = s.cut.points[a], &pb = s.cut.points[b];
+            Vec3 d = (pb - pa).cross(s.normal[i]);
+            if (d.dot(0.5 * (pa + pb) - centre) < 0)
+                d = -d;
+            if (!(d.norm() > 0))
+                continue;
+            d.normalize();
+            for (const std::uint32_t w : { a, b })
+                outward.emplace(w, Vec3::Zero()).first->second += d;
+            border.push_back({ a, b, i });
+        }
+    }
+    // Each corner reaches out as far as its shortest border edge is long (and no further
+    // than a face's size): the skin lies within about a cell of the mesh's boundary, and
+    // shorter reaches keep the quads at a reflex corner from folding over each other.
+    std::map<std::uint32_t, double> shortest;
+    for (const Border& e : border) {
+        const double length = (s.cut.points[e.a] - s.cut.points[e.b]).norm();
+        for (const std::uint32_t w : { e.a, e.b }) {
+            const auto [it, fresh] = shortest.emplace(w, length);
+            if (!fresh)
+                it->second = std::min(it->second, length);
+        }
+    }
+    std::map<std::uint32_t, std::uint32_t> moved;
+    for (const auto& [w, d] : outward) {
+        if (!(d.norm() > 1e-6))
+            continue;
+        if (s.front.count(key_of(s.cut.points[w])))
+            s.front.insert(key_of(s.cut.points[w] + std::min(reach, shortest.at(w)) * d.normalized()));
+        moved[w] = std::uint32_t(s.cut.points.size());
+        s.cut.points.push_back(
+            s.cut.points[w] + std::min(reach, shortest.at(w)) * d.normalized());
+    }
+    for (const Border& e : border) {
+        const auto ia = moved.find(e.a), ib = moved.find(e.b);
+        if (ia == moved.end() || ib == moved.end())
+            continue;
+        s.loops.emplace_back(e.face, std::vector<std::uint32_t> { e.a, ia->second, ib->second, e.b });
+        ++s.extension_quads;
+    }
+}
+
 } // namespace
 
 CutSurface build_cut_surface(const mesh::Mesh& mesh, const std::vector<Index>& cut_faces) {
@@ -243,14 +322,6 @@ CutSurface build_cut_surface(const mesh::Mesh& mesh, const std::vector<Index>& c
     s.side.resize(nf);
     for (std::size_t i = 0; i < nf; ++i)
         s.side[i] = side_of(i).second;
-    if (getenv("CUTDBG"))
-        for (std::size_t i = 0; i < nf; ++i) {
-            const mesh::Face& face = mesh.faces[std::size_t(s.faces[i])];
-            fprintf(stderr, "cutface %zu (mesh %d) owner %d side %d n (%.2f %.2f %.2f):", i, int(s.faces[i]), int(face.owner), s.side[i], s.normal[i].x(), s.normal[i].y(), s.normal[i].z());
-            for (auto n : face.nodes)
-                fprintf(stderr, " %d(%.5f %.5f %.5f)", int(n), mesh.rest[n].x(), mesh.rest[n].y(), mesh.rest[n].z());
-            fprintf(stderr, "\n");
-        }
 
     // 2. Welded corners (all faces: the other side's corners may lie on this side's edges).
     const double tol = s.tolerance;
@@ -276,6 +347,9 @@ CutSurface build_cut_surface(const mesh::Mesh& mesh, const std::vector<Index>& c
     for (std::size_t i = 0; i < nf; ++i)
         for (const Index n : mesh.faces[std::size_t(s.faces[i])].nodes)
             s.side_node[s.side[i]].emplace(key_of(s.cut.points[welded.at(n)]), n);
+    for (const auto& [key, node] : s.side_node[0])
+        if (const auto it = s.side_node[1].find(key); it != s.side_node[1].end() && it->second == node)
+            s.front.insert(key);
 
     // 3. Side 0's loops of welded corners, triangulated with the corners on their edges.
     double edge_sum = 0;
@@ -302,6 +376,7 @@ CutSurface build_cut_surface(const mesh::Mesh& mesh, const std::vector<Index>& c
         if (corners.size() >= 3)
             s.loops.emplace_back(i, std::move(corners));
     }
+    extend_past_the_mesh(s, mesh, welded);
     triangulate(s);
     return s;
 }

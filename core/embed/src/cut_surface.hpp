@@ -11,6 +11,7 @@
 
 #include <array>
 #include <map>
+#include <set>
 #include <vector>
 
 namespace polycut::embed::detail {
@@ -34,6 +35,7 @@ struct Box {
 
 struct CutSurface {
     std::vector<Index> faces; ///< the usable Cut faces (boundary, tag Cut, >= 3 nodes), both sides
+    std::size_t extension_quads = 0; ///< quads carrying the cut past the mesh's skin
     std::size_t slit_faces = 0; ///< Cut faces left out: both faces of a slit inside one cell
     std::vector<Vec3> normal; ///< each face's rest normal (outward for its cell)
     std::vector<int> side; ///< 0: the side taken, 1: the other
@@ -43,6 +45,9 @@ struct CutSurface {
     Box all;
     /// Each side's nodes by the welded rest position of the node (the cut point there).
     std::map<Key, Index> side_node[2];
+    /// The crack front: welded points of nodes both sides share, and their extensions past the
+    /// mesh's skin (the material has not parted there).
+    std::set<Key> front;
     double tolerance = 0; ///< [m] welding distance: rounding, far below any feature
     double edge_length = 0; ///< [m] the faces' mean edge length (a grid size)
     /// Side 0's faces as loops of welded corners (index into `faces`, cut points).

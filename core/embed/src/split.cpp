@@ -161,6 +161,30 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
     // faces, and the new faces cover the same rest plane only up to rounding, so corefining
     // again would cross the old seams at rounding-sized angles. The caller splits anew instead,
     // along all the Cut faces at once (decision 0033). Nothing has changed yet.
+    // The same when the new faces meet an earlier cut's faces (a stroke carried on): the two
+    // cut surfaces, and their extensions past the mesh's skin, would each be triangulated and
+    // extended on their own, and their lips would overlap where they meet.
+    if (!state.copies.empty() && !cut.triangles.empty()) {
+        std::set<Index> fresh(change.cut_faces.begin(), change.cut_faces.end());
+        std::set<Index> nodes;
+        for (const Index f : faces)
+            for (const Index n : mesh.faces[std::size_t(f)].nodes)
+                nodes.insert(n);
+        for (Index f = 0; f < mesh.num_faces() && !report.overlaps_earlier_cut; ++f) {
+            const mesh::Face& face = mesh.faces[std::size_t(f)];
+            if (!face.boundary() || face.tag != mesh::FaceTag::Cut || fresh.count(f))
+                continue;
+            for (const Index n : face.nodes)
+                if (nodes.count(n)) {
+                    report.overlaps_earlier_cut = true;
+                    break;
+                }
+        }
+        if (report.overlaps_earlier_cut) {
+            report.total_ms = watch.ms();
+            return report;
+        }
+    }
     if (!state.copies.empty() && !cut.triangles.empty()) {
         constexpr double kOnCut = 1e-9; // [m], far above rounding, far below any triangle
         for (const auto& [key, ids] : state.copies) {
@@ -175,8 +199,6 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
                     && on_triangle(
                         p, cut.points[tri[0]], cut.points[tri[1]], cut.points[tri[2]], kOnCut)) {
                     report.overlaps_earlier_cut = true;
-                    if (getenv("CUTDBG"))
-                        fprintf(stderr, "overlap\n");
                     report.total_ms = watch.ms();
                     return report;
                 }
@@ -307,23 +329,26 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
     // 3. Corefinement.
     const Stopwatch cgal_watch;
     const detail::Corefined refined = detail::corefine_patch(patch, cut, seams, surface.tolerance);
-    if (getenv("CUTDBG")) {
-        std::map<Key, int> count;
-        for (const Vec3& q : refined.patch.points)
-            if (++count[key_of(q)] == 2)
-                fprintf(stderr, "duplicate refined patch point %.17g %.17g %.17g\n", q.x(), q.y(), q.z());
-        std::map<Key, int> count2;
-        for (const Vec3& q : refined.cut.points)
-            if (++count2[key_of(q)] == 2)
-                fprintf(stderr, "duplicate refined cut point %.17g %.17g %.17g\n", q.x(), q.y(), q.z());
-    }
-    if (getenv("CUTDBG"))
-        fprintf(stderr, "split: %zu faces %zu cut triangles %zu patch, %zu seams, copies %zu\n",
-            faces.size(), cut.triangles.size(), patch.triangles.size(), seams.size(), state.copies.size());
     report.corefine_ms = cgal_watch.ms();
     const detail::TriangleSet& rp = refined.patch;
-    std::set<std::pair<std::uint32_t, std::uint32_t>> constrained(
-        refined.constrained.begin(), refined.constrained.end());
+    // The skin parts along its crossings with the cut, except where a crossing runs along the
+    // cut's own border (the crack front, where both sides share their nodes): there the
+    // material is whole, and a seam would open a slit that no lip closes.
+    std::set<std::pair<Key, Key>> cut_border;
+    {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+        for (const auto& tri : refined.cut.triangles)
+            for (int k = 0; k < 3; ++k)
+                ++uses[std::minmax(tri[std::size_t(k)], tri[std::size_t((k + 1) % 3)])];
+        for (const auto& [edge, n] : uses)
+            if (n == 1)
+                cut_border.insert(std::minmax(key_of(refined.cut.points[edge.first]),
+                    key_of(refined.cut.points[edge.second])));
+    }
+    std::set<std::pair<std::uint32_t, std::uint32_t>> constrained;
+    for (const auto& [u, v] : refined.constrained)
+        if (!cut_border.count(std::minmax(key_of(rp.points[u]), key_of(rp.points[v]))))
+            constrained.emplace(u, v);
     auto is_constrained = [&](std::uint32_t a, std::uint32_t b) {
         return constrained.count({ std::min(a, b), std::max(a, b) }) > 0;
     };
@@ -514,7 +539,10 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
             slot = &r.first->second;
             made = r.second;
         } else {
-            const auto r = loose.emplace(std::make_pair(key_of(p), side), 0u);
+            // Past the mesh, on the crack front's line: the material has not parted, one
+            // vertex for both sides (as the front's nodes are).
+            const int key_side = surface.front.count(key_of(p)) ? 0 : side;
+            const auto r = loose.emplace(std::make_pair(key_of(p), key_side), 0u);
             slot = &r.first->second;
             made = r.second;
         }

@@ -25,6 +25,7 @@ namespace polycut::sim {
 void Simulation::Impl::build_embedded() {
     embedded.reset();
     embedded_split.reset();
+    embedded_base.reset();
     embedded_inside.reset();
     embedded_pending_cut = nullptr;
     embedded_stats = {};
@@ -45,6 +46,7 @@ void Simulation::Impl::build_embedded() {
     embedded = std::make_unique<embed::Embedding>(embed::embed_surface(
         mesh, std::move(surface.positions), embedded_triangles, basis_options(scene).poly));
     embedded_loaded_vertices = embedded->rest.size();
+    embedded_base = std::make_unique<embed::Embedding>(*embedded);
     embedded_split = std::make_unique<embed::SplitState>();
     embed_ms = watch.ms();
     lip_vertex_nodes.clear();
@@ -99,8 +101,27 @@ void Simulation::Impl::refresh_embedded() {
         return;
     const Stopwatch watch;
     const basis::PolyBasis poly = basis_options(scene).poly;
-    bool local = cut != nullptr && embedded_version + 1 == topology_version && cut->node_map.empty()
-        && embedded_stats.split;
+    const bool follows = cut != nullptr && embedded_version + 1 == topology_version
+        && cut->node_map.empty();
+    // The unsplit surface follows the cut where it changed cells; anything else (an undo, a
+    // reset, node ids renumbered) embeds it anew.
+    if (follows) {
+        std::vector<std::uint32_t> moved;
+        const std::vector<Index>& changed = cut->changed_cells;
+        for (std::size_t v = 0; v < embedded_base->cells.size(); ++v) {
+            Index c = embedded_base->cells[v];
+            if (!cut->cell_map.empty() && c != kNone && std::size_t(c) < cut->cell_map.size())
+                c = embedded_base->cells[v] = cut->cell_map[std::size_t(c)];
+            if (c == kNone || std::binary_search(changed.begin(), changed.end(), c))
+                moved.push_back(std::uint32_t(v));
+        }
+        embed::reembed(*embedded_base, mesh, moved, poly);
+    } else {
+        std::vector<Vec3> rest(embedded->rest.begin(),
+            embedded->rest.begin() + std::ptrdiff_t(embedded_loaded_vertices));
+        *embedded_base = embed::embed_surface(mesh, std::move(rest), embedded_triangles, poly);
+    }
+    bool local = follows && embedded_stats.split;
     if (local) {
         // Only what this cut changed: vertices in changed (or merged-away) cells are embedded
         // again, and the surface is split along the new Cut faces.
@@ -118,9 +139,7 @@ void Simulation::Impl::refresh_embedded() {
     }
     if (!local) {
         // Anew: the surface as loaded, then split along every Cut face of the mesh.
-        std::vector<Vec3> rest(embedded->rest.begin(),
-            embedded->rest.begin() + std::ptrdiff_t(embedded_loaded_vertices));
-        *embedded = embed::embed_surface(mesh, std::move(rest), embedded_triangles, poly);
+        *embedded = *embedded_base;
         embedded_split = std::make_unique<embed::SplitState>();
         embedded_stats.full = true;
         std::vector<Index> cut_faces;
@@ -130,9 +149,7 @@ void Simulation::Impl::refresh_embedded() {
                 cut_faces.push_back(f);
         if (!cut_faces.empty() && embedded_stats.split
             && !split_embedded({ std::move(cut_faces), {}, {} })) {
-            std::vector<Vec3> loaded(embedded->rest.begin(),
-                embedded->rest.begin() + std::ptrdiff_t(embedded_loaded_vertices));
-            *embedded = embed::embed_surface(mesh, std::move(loaded), embedded_triangles, poly);
+            *embedded = *embedded_base;
         }
     }
     // Without the split (a CGAL failure): the lips are the mesh's Cut triangles over their own

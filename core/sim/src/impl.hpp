@@ -171,6 +171,10 @@ struct Simulation::Impl {
     /// (set by note_embedding_cut() for the refresh that follows it in the same call) and the
     /// figures of the last split.
     std::unique_ptr<embed::SplitState> embedded_split;
+    /// The surface as loaded, unsplit, embedded in the current mesh (each vertex in the cell
+    /// that contains it), kept current cut by cut where the cut changed cells: the start of a
+    /// split anew, instead of embedding every vertex again.
+    std::unique_ptr<embed::Embedding> embedded_base;
     std::unique_ptr<contact::TriangleMeshDistance> embedded_inside;
     const cut::CutReport* embedded_pending_cut = nullptr;
     EmbeddedStats embedded_stats;
