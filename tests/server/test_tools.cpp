@@ -67,12 +67,23 @@ TEST_F(Tools, ProbePressesTheTissueAndTheReactionComesBack) {
     EXPECT_GT(r.depth, 0.0);
     EXPECT_LT(r.depth, 0.0025);
     // The stream carries the same report in every frame header; the last one is this state.
-    std::optional<SurfaceFrame> frame, last;
-    while ((frame = next_surface(sub)) && frame->header.tick < stats.tick) { }
+    // A slow subscriber loses frames (docs/protocol.md, "Late joiners and gaps": the PUB's
+    // high-water mark; a loaded machine can starve the subscriber's I/O thread during a burst
+    // of 60 steps): if this tick's frame was lost, one more tick and its frame.
+    std::optional<SurfaceFrame> frame;
+    Stats at = stats;
+    for (int attempt = 0; attempt < 5; ++attempt) {
+        while ((frame = next_surface(sub)) && frame->header.tick < at.tick) { }
+        if (frame && frame->header.tick == at.tick)
+            break;
+        client.ok<RunState>(StepParams { 1 });
+        at = client.stats();
+    }
     ASSERT_TRUE(frame.has_value());
-    EXPECT_EQ(frame->header.tick, stats.tick);
+    EXPECT_EQ(frame->header.tick, at.tick);
     ASSERT_EQ(frame->header.contacts.size(), 1u);
-    EXPECT_EQ(frame->header.contacts[0], r);
+    ASSERT_EQ(at.contacts.size(), 1u);
+    EXPECT_EQ(frame->header.contacts[0], at.contacts[0]);
 
     // Bad requests: pointer at the field, nothing changed.
     ToolCreateParams bad = create;
