@@ -209,11 +209,13 @@ TEST(SimEmbedded, ACutSplitsTheSkinAndClosesItWithDetailedLips) {
     EXPECT_GT(gap, 1e-6);
 }
 
-TEST(SimEmbedded, AStrokeOverTicksKeepsTheSurfaceClosed) {
+class SimEmbeddedStroke : public ::testing::TestWithParam<std::string> { };
+
+TEST_P(SimEmbeddedStroke, AStrokeOverTicksKeepsTheSurfaceClosed) {
     // The blade drawn across the block in 8 sweeps, one per tick, as the server applies a
     // scalpel: after every tick the surface is closed and oriented; reset() embeds it anew.
     const std::string path = sphere_off(Vec3(0, 0, 0.02), 0.019, 24, 48);
-    sim::Simulation s(scene::parse_scene(block_text(path, "mvc", R"(,
+    sim::Simulation s(scene::parse_scene(block_text(path, GetParam(), R"(,
       "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}])")));
     const Vec3 down(0, 0, -0.03);
     auto at = [](int k) { return Vec3(-0.025 + 0.05 * k / 8, 0.0015, 0.045); };
@@ -234,3 +236,6 @@ TEST(SimEmbedded, AStrokeOverTicksKeepsTheSurfaceClosed) {
     EXPECT_GT(applied, 4);
     EXPECT_GT(s.embedded_stats().lip_triangles, 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(SimEmbedded, SimEmbeddedStroke, ::testing::Values("mvc", "dg"),
+    [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });

@@ -179,6 +179,7 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
         scene_forces = VecX::Zero(3 * mesh.num_nodes());
         static_solved = false;
         sync_positions();
+        note_embedding_cut(report); // the detailed surface follows the cut, as below
         refresh_topology();
         return;
     }
