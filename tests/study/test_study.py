@@ -172,6 +172,28 @@ class Plans(unittest.TestCase):
         self.assertIn(f"seq 0 {n - 1} | parallel", par)
 
 
+def _write_many(args):
+    from polycut_study import execute
+    path, times = args
+    for k in range(times):
+        execute._write_json(path, {"k": k})
+    return True
+
+
+class Files(unittest.TestCase):
+    def test_two_workers_writing_one_file_never_fail(self):
+        # Pool workers write the same samples file; each write goes through a temporary name
+        # of its own and one atomic rename (a shared temporary failed the run now and then).
+        import concurrent.futures
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "samples", "p.json")
+            with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
+                self.assertTrue(all(pool.map(_write_many, [(path, 400)] * 2)))
+            with open(path) as f:
+                self.assertEqual(json.load(f)["k"], 399)
+            self.assertEqual(os.listdir(os.path.dirname(path)), ["p.json"])
+
+
 def run_tiny():
     """The tiny study with the pool, one job again as a cluster task would run it, and the
     outputs checked (the issue's bounds: analytic errors below a stated bound)."""

@@ -23,7 +23,11 @@ def result_path(out, index):
 
 def _write_json(path, doc):
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    tmp = path + ".tmp"
+    # A temporary name per process: two pool workers may write the same file (the samples of
+    # a problem, written by whichever of its jobs comes first), and with one shared name the
+    # second os.replace found the first's temporary gone (a FileNotFoundError that failed the
+    # whole run, now and then, in study_tiny).
+    tmp = f"{path}.{os.getpid()}.tmp"
     with open(tmp, "w") as f:
         json.dump(doc, f, indent=1)
     os.replace(tmp, path)  # readers never see half a file
