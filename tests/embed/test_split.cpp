@@ -3,6 +3,7 @@
 // is closed and consistently oriented (every directed edge once, its reverse once), encloses the
 // sphere's volume, its lips (tag 2) lie in the cut plane, a vertex on the cut is embedded on its
 // own side, and affine motions of the nodes still move every vertex exactly.
+#include "polycut/common/error.hpp"
 #include "polycut/contact/triangle_mesh_distance.hpp"
 #include "polycut/cut/cutter.hpp"
 #include "polycut/embed/split.hpp"
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <map>
 #include <numeric>
+#include <random>
 #include <string>
 
 using namespace polycut;
@@ -53,6 +55,22 @@ int open_edges(const std::vector<std::uint32_t>& tri) {
     for (const auto& [e, n] : count) {
         const auto it = count.find({ e.second, e.first });
         bad += n != 1 || it == count.end() || it->second != 1;
+    }
+    return bad;
+}
+
+/// Directed edges used a different number of times than their reverse: holes (a closed surface
+/// may still have edges that four triangles share, two each way, where the material on two
+/// sides of a crack front touches along that edge).
+int unbalanced_edges(const std::vector<std::uint32_t>& tri) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
+    for (std::size_t t = 0; t < tri.size(); t += 3)
+        for (int k = 0; k < 3; ++k)
+            ++count[{ tri[t + std::size_t(k)], tri[t + std::size_t((k + 1) % 3)] }];
+    int bad = 0;
+    for (const auto& [e, n] : count) {
+        const auto it = count.find({ e.second, e.first });
+        bad += it == count.end() || it->second != n;
     }
     return bad;
 }
@@ -184,6 +202,10 @@ struct Fixture {
             { Vec3(0.03, y0, 0.05), Vec3(0.03, y0, z0), Vec3(-0.03, y0, z0) } };
         const cut::CutReport r = cut::cut_rest(mesh, blade);
         EXPECT_TRUE(r.topology_changed);
+        return split_after(r);
+    }
+    /// Splits the surface after the mesh was cut as `r` says.
+    embed::SplitReport split_after(const cut::CutReport& r) {
         cut_faces = r.cut_faces;
         // Vertices in the cells the cut changed, as the simulation passes them.
         std::vector<std::uint32_t> moved;
@@ -369,3 +391,75 @@ TEST_P(Split, ACutCarriedOnDeeperKeepsTheSurfaceClosed) {
 
 INSTANTIATE_TEST_SUITE_P(Embed, Split, ::testing::Values(0, 1),
     [](const ::testing::TestParamInfo<int>& i) { return i.param == 0 ? "Q1" : "MeanValue"; });
+
+TEST(SplitRandom, PlanesAtRandomKeepTheSurfaceClosedAndExact) {
+    // Blades in random planes through the sphere (seeded; a third of them in planes of grid
+    // faces or 1 nm off one, the degenerate cases), each ending at a random depth, and half of
+    // them carried on deeper by a second call: after every call the surface is closed and
+    // oriented (every directed edge as often as its reverse), encloses the sphere's volume, and
+    // moves exactly under an affine motion.
+    std::mt19937 rng(20261203);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int cases = 0, carried = 0, refused = 0, non_manifold = 0;
+    for (int trial = 0; trial < 24; ++trial) {
+        Fixture f(trial % 2);
+        Vec3 n(u(rng), u(rng), 0.3 * u(rng));
+        double offset = 0.008 * u(rng);
+        if (trial % 3 == 0) { // a plane of grid faces (x or y = a multiple of 1 cm), or just off
+            n = trial % 2 ? Vec3::UnitX() : Vec3::UnitY();
+            offset = 0.01 * std::round(1.5 * u(rng)) + (trial % 6 == 0 ? 0.0 : 1e-9);
+        }
+        n.normalize();
+        const Vec3 up = (Vec3::UnitZ() - n.z() * n).normalized();
+        const Vec3 along = up.cross(n);
+        const Vec3 centre = Vec3(0, 0, 0.02) + offset * n;
+        auto blade_down_to = [&](double depth) { // from above the sphere down to `depth`
+            const Vec3 a = centre + 0.04 * up - 0.04 * along, b = centre + 0.04 * up + 0.04 * along;
+            const Vec3 c = centre + depth * up - 0.04 * along, d = centre + depth * up + 0.04 * along;
+            return std::vector<cut::Triangle> { { a, b, c }, { b, d, c } };
+        };
+        const double first = 0.012 * u(rng), second = first - 0.006 - 0.004 * (u(rng) + 1);
+        for (const double depth : { first, second }) {
+            if (depth == second && trial % 2 == 1)
+                break;
+            cut::CutReport r;
+            try {
+                r = cut::cut_rest(f.mesh, blade_down_to(depth));
+            } catch (const std::exception& e) {
+                // The cutter refused this blade (the simulation undoes such a cut and says so;
+                // its mesh is not this test's subject): the next trial.
+                std::printf("trial %d: the cutter refused: %s\n", trial, e.what());
+                ++refused;
+                break;
+            }
+            if (!r.topology_changed)
+                continue;
+            f.split_after(r);
+            ++cases;
+            carried += depth == second;
+            EXPECT_EQ(unbalanced_edges(f.e.triangles), 0)
+                << "trial " << trial << " depth " << depth << "\n" << describe_open_edges(f.e);
+            non_manifold += open_edges(f.e.triangles) > 0;
+            EXPECT_NEAR(volume(f.e.rest, f.e.triangles), f.sphere_volume, 1e-9 * f.sphere_volume)
+                << "trial " << trial;
+            Mat3 A;
+            A << 1.1, 0.2, -0.1, 0.05, 0.9, 0.3, -0.2, 0.1, 1.2;
+            std::vector<Vec3> x;
+            for (const Vec3& X : f.mesh.rest)
+                x.push_back(A * X);
+            const std::vector<Vec3> moved = f.deformed(x);
+            double worst = 0;
+            for (std::size_t v = 0; v < f.e.rest.size(); ++v)
+                worst = std::max(worst, (moved[v] - A * f.e.rest[v]).norm());
+            EXPECT_LT(worst, 1e-12) << "trial " << trial;
+        }
+    }
+    std::printf("random planes: %d splits (%d carried on deeper), %d blades the cutter refused, "
+                "%d closed surfaces with an edge that four triangles share\n",
+        cases, carried, refused, non_manifold);
+    EXPECT_GT(cases, 20);
+    // Measured: 1 of 34 (a blade 1 nm off a plane of merged cells' faces: two lips of each side
+    // meet along a crack-front edge, decision 0033).
+    EXPECT_LE(non_manifold, 2);
+    EXPECT_GT(carried, 4);
+}
