@@ -458,7 +458,10 @@ TEST(SplitRandom, PlanesAtRandomKeepTheSurfaceClosedAndExact) {
                 "%d closed surfaces with an edge that four triangles share\n",
         cases, carried, refused, non_manifold);
     EXPECT_GT(cases, 20);
-    // Measured: 1 of 34 (a blade 1 nm off a plane of merged cells' faces: two lips of each side
+    // The merged cells are not convex: a plane may cross one in several places (it falls into
+    // more than two pieces; the cutter refused such blades before, 2 of these 24).
+    EXPECT_EQ(refused, 0);
+    // Measured: 1 of 36 (a blade 1 nm off a plane of merged cells' faces: two lips of each side
     // meet along a crack-front edge, decision 0033).
     EXPECT_LE(non_manifold, 2);
     EXPECT_GT(carried, 4);

@@ -125,10 +125,9 @@ CutReport Cutter::split_by_plane(
         else
             ++report.cells_skipped;
     }
-    for (Index c : ok) {
-        Index iface = kNone;
-        detail::split_cell(ed, cls, c, iface);
-    }
+    std::vector<Index> interfaces;
+    for (Index c : ok)
+        detail::split_cell(ed, cls, c, interfaces);
     detail::fix_pinched_edges(ed);
     detail::merge_slivers(ed);
     ed.end();

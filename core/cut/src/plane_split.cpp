@@ -131,9 +131,10 @@ bool can_split_cell(Editor& ed, PlaneClassifier& cls, Index c) {
 }
 
 namespace {
-// The loop closing the open surface made by `loops` (outward for the cell), oriented
-// outward for the same cell: each boundary edge (u, v) appears reversed.
-std::vector<Index> closing_loop(const std::vector<std::vector<Index>>& loops) {
+// The loops closing the open surface made by `loops` (outward for the cell), each oriented
+// outward for the same cell: each boundary edge (u, v) appears reversed. A convex cell has one;
+// a non-convex one (merged cells) may have several, one per place the plane crosses it.
+std::vector<std::vector<Index>> closing_loops(const std::vector<std::vector<Index>>& loops) {
     std::map<std::pair<Index, Index>, int> directed;
     for (const auto& l : loops)
         for (std::size_t i = 0; i < l.size(); ++i)
@@ -147,24 +148,58 @@ std::vector<Index> closing_loop(const std::vector<std::vector<Index>>& loops) {
             throw std::logic_error("cut: hole of a split cell is not a simple loop");
         next[e.second] = e.first;
     }
-    if (next.size() < 3)
-        throw std::logic_error("cut: hole of a split cell has fewer than 3 nodes");
-    std::vector<Index> loop;
-    Index v = next.begin()->first;
-    do {
-        loop.push_back(v);
-        auto it = next.find(v);
-        if (it == next.end() || loop.size() > next.size())
-            throw std::logic_error("cut: hole of a split cell is not closed");
-        v = it->second;
-    } while (v != loop.front());
-    if (loop.size() != next.size())
-        throw std::logic_error("cut: hole of a split cell has several loops");
-    return loop;
+    std::vector<std::vector<Index>> out;
+    std::map<Index, char> used;
+    for (const auto& [start, unused] : next) {
+        if (used.count(start))
+            continue;
+        std::vector<Index> loop;
+        Index v = start;
+        do {
+            loop.push_back(v);
+            used[v] = 1;
+            auto it = next.find(v);
+            if (it == next.end() || loop.size() > next.size())
+                throw std::logic_error("cut: hole of a split cell is not closed");
+            v = it->second;
+        } while (v != loop.front());
+        if (loop.size() < 3)
+            throw std::logic_error("cut: hole of a split cell has fewer than 3 nodes");
+        out.push_back(std::move(loop));
+    }
+    if (out.empty())
+        throw std::logic_error("cut: a split cell has no hole");
+    return out;
+}
+
+/// Groups of faces (indices into `loops`) connected through shared edges.
+std::vector<int> components(const std::vector<std::vector<Index>>& loops, int& count) {
+    std::vector<int> parent(loops.size());
+    for (std::size_t i = 0; i < parent.size(); ++i)
+        parent[i] = int(i);
+    auto find = [&](int i) {
+        while (parent[std::size_t(i)] != i)
+            i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
+        return i;
+    };
+    std::map<std::pair<Index, Index>, int> first;
+    for (std::size_t f = 0; f < loops.size(); ++f)
+        for (std::size_t i = 0; i < loops[f].size(); ++i) {
+            const auto [it, fresh] = first.emplace(
+                std::minmax(loops[f][i], loops[f][(i + 1) % loops[f].size()]), int(f));
+            if (!fresh)
+                parent[std::size_t(find(int(f)))] = find(it->second);
+        }
+    std::map<int, int> id;
+    std::vector<int> out(loops.size());
+    for (std::size_t f = 0; f < loops.size(); ++f)
+        out[f] = id.emplace(find(int(f)), int(id.size())).first->second;
+    count = int(id.size());
+    return out;
 }
 } // namespace
 
-Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, Index& interface) {
+Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, std::vector<Index>& interfaces) {
     mesh::Mesh& m = ed.m;
     const std::vector<Index> faces = at(m.cells, c).faces;
     for (Index f : faces)
@@ -191,35 +226,87 @@ Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, Index& interface) {
         }
     }
 
-    const Index c2 = m.num_cells();
-    mesh::Cell child;
-    child.parent = c;
-    child.shape = mesh::CellShape::Polyhedron;
-    m.cells.push_back(std::move(child));
-    ed.touch(c2);
-    at(m.cells, c).faces = plus_faces;
-    at(m.cells, c2).faces = minus_faces;
-    for (Index f : minus_faces) {
+    // The holes the plane leaves, and the pieces on each side: one each for a convex cell; a
+    // non-convex cell may fall into more (each piece a cell, each hole a face between two).
+    std::vector<std::vector<Index>> plus_loops, minus_loops;
+    for (Index f : plus_faces)
+        plus_loops.push_back(m.face_loop(f, c));
+    for (Index f : minus_faces)
+        minus_loops.push_back(m.face_loop(f, c));
+    const std::vector<std::vector<Index>> holes = closing_loops(plus_loops);
+    int n_plus = 0, n_minus = 0;
+    const std::vector<int> plus_piece = components(plus_loops, n_plus);
+    const std::vector<int> minus_piece = components(minus_loops, n_minus);
+    // Piece cells: the first + piece stays c, the others and every - piece are appended.
+    std::vector<Index> plus_cell(static_cast<std::size_t>(n_plus));
+    std::vector<Index> minus_cell(static_cast<std::size_t>(n_minus));
+    auto add_cell = [&]() {
+        const Index id = m.num_cells();
+        mesh::Cell child;
+        child.parent = c;
+        child.shape = mesh::CellShape::Polyhedron;
+        m.cells.push_back(std::move(child));
+        ed.touch(id);
+        return id;
+    };
+    plus_cell[0] = c;
+    for (int k = 1; k < n_plus; ++k)
+        plus_cell[std::size_t(k)] = add_cell();
+    for (int k = 0; k < n_minus; ++k)
+        minus_cell[std::size_t(k)] = add_cell();
+    const Index first_new = n_plus > 1 ? plus_cell[1] : minus_cell[0];
+    for (Index x : plus_cell)
+        at(m.cells, x).faces.clear();
+    for (Index x : minus_cell)
+        at(m.cells, x).faces.clear();
+    auto move_face = [&](Index f, Index to) {
+        at(m.cells, to).faces.push_back(f);
+        if (to == c)
+            return;
         mesh::Face& face = at(m.faces, f);
         if (face.owner == c)
-            face.owner = c2;
+            face.owner = to;
         else if (face.neighbour == c)
-            face.neighbour = c2;
+            face.neighbour = to;
+    };
+    for (std::size_t i = 0; i < plus_faces.size(); ++i)
+        move_face(plus_faces[i], plus_cell[std::size_t(plus_piece[i])]);
+    for (std::size_t i = 0; i < minus_faces.size(); ++i)
+        move_face(minus_faces[i], minus_cell[std::size_t(minus_piece[i])]);
+    // Each hole lies between the + piece and the - piece whose faces have its edges: the hole
+    // walks them reversed, so its edge (a, b) is a + face's (b, a).
+    std::map<std::pair<Index, Index>, int> plus_edge, minus_edge;
+    for (std::size_t i = 0; i < plus_loops.size(); ++i)
+        for (std::size_t k = 0; k < plus_loops[i].size(); ++k)
+            plus_edge[{ plus_loops[i][k], plus_loops[i][(k + 1) % plus_loops[i].size()] }]
+                = plus_piece[i];
+    for (std::size_t i = 0; i < minus_loops.size(); ++i)
+        for (std::size_t k = 0; k < minus_loops[i].size(); ++k)
+            minus_edge[std::minmax(
+                minus_loops[i][k], minus_loops[i][(k + 1) % minus_loops[i].size()])]
+                = minus_piece[i];
+    interfaces.clear();
+    for (const std::vector<Index>& hole : holes) {
+        const auto p = plus_edge.find({ hole[1], hole[0] });
+        const auto q = minus_edge.find(std::minmax(hole[0], hole[1]));
+        if (p == plus_edge.end() || q == minus_edge.end())
+            throw std::logic_error("cut: a hole of a split cell borders no piece");
+        mesh::Face iface;
+        iface.nodes = hole;
+        iface.owner = plus_cell[std::size_t(p->second)];
+        iface.neighbour = minus_cell[std::size_t(q->second)];
+        iface.tag = mesh::FaceTag::Interior;
+        interfaces.push_back(ed.add_face(std::move(iface))); // into both cells' face lists
     }
-
-    std::vector<std::vector<Index>> loops;
-    for (Index f : plus_faces)
-        loops.push_back(m.face_loop(f, c));
-    mesh::Face iface;
-    iface.nodes = closing_loop(loops);
-    iface.owner = c;
-    iface.neighbour = c2;
-    iface.tag = mesh::FaceTag::Interior;
-    interface = ed.add_face(std::move(iface));
-    ed.refresh_cell_nodes(c);
-    ed.refresh_cell_nodes(c2);
-    ed.report->new_cells.push_back({ c2, c });
-    return c2;
+    for (Index x : plus_cell)
+        ed.refresh_cell_nodes(x);
+    for (Index x : minus_cell)
+        ed.refresh_cell_nodes(x);
+    for (std::size_t k = 1; k < plus_cell.size(); ++k)
+        ed.report->new_cells.push_back({ plus_cell[k], c });
+    for (Index x : minus_cell)
+        ed.report->new_cells.push_back({ x, c });
+    return first_new;
 }
 
 } // namespace polycut::cut::detail

@@ -49,8 +49,10 @@ private:
 bool can_split_cell(Editor& ed, PlaneClassifier& cls, Index c);
 
 /// Splits cell c (which can_split_cell accepted): inserts edge nodes, splits crossed faces for
-/// both of their cells, keeps the + half as c and appends the - half. Returns the new cell;
-/// `interface` receives the face between the halves (owner c).
-Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, Index& interface);
+/// both of their cells, keeps the + part as c and appends the - part. A non-convex cell that
+/// the plane crosses in several places falls into more pieces: c keeps the first + piece, the
+/// others are appended (each a child of c). Returns the first appended cell; `interfaces`
+/// receives the faces between the pieces (owner a + piece), one per hole the plane leaves.
+Index split_cell(Editor& ed, PlaneClassifier& cls, Index c, std::vector<Index>& interfaces);
 
 } // namespace polycut::cut::detail

@@ -164,10 +164,10 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
                 cls.project_onto_plane(v);
     }
 
+    std::vector<Index> interfaces;
     for (Index c : to_split) {
-        Index iface = kNone;
-        split_cell(ed, cls, c, iface);
-        plane_faces.push_back(iface);
+        split_cell(ed, cls, c, interfaces);
+        plane_faces.insert(plane_faces.end(), interfaces.begin(), interfaces.end());
     }
     std::sort(plane_faces.begin(), plane_faces.end());
     plane_faces.erase(std::unique(plane_faces.begin(), plane_faces.end()), plane_faces.end());
