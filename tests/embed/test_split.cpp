@@ -45,12 +45,19 @@ void uv_sphere(const Vec3& c, double radius, int rings, int segments, std::vecto
     }
 }
 
-/// Directed edges that do not appear exactly once with their reverse exactly once.
-int open_edges(const std::vector<std::uint32_t>& tri) {
+/// How often each directed edge of the triangles appears.
+std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_counts(
+    const std::vector<std::uint32_t>& tri) {
     std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
     for (std::size_t t = 0; t < tri.size(); t += 3)
         for (int k = 0; k < 3; ++k)
             ++count[{ tri[t + std::size_t(k)], tri[t + std::size_t((k + 1) % 3)] }];
+    return count;
+}
+
+/// Directed edges that do not appear exactly once with their reverse exactly once.
+int open_edges(const std::vector<std::uint32_t>& tri) {
+    const auto count = edge_counts(tri);
     int bad = 0;
     for (const auto& [e, n] : count) {
         const auto it = count.find({ e.second, e.first });
@@ -63,10 +70,7 @@ int open_edges(const std::vector<std::uint32_t>& tri) {
 /// may still have edges that four triangles share, two each way, where the material on two
 /// sides of a crack front touches along that edge).
 int unbalanced_edges(const std::vector<std::uint32_t>& tri) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
-    for (std::size_t t = 0; t < tri.size(); t += 3)
-        for (int k = 0; k < 3; ++k)
-            ++count[{ tri[t + std::size_t(k)], tri[t + std::size_t((k + 1) % 3)] }];
+    const auto count = edge_counts(tri);
     int bad = 0;
     for (const auto& [e, n] : count) {
         const auto it = count.find({ e.second, e.first });

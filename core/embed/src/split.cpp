@@ -52,6 +52,13 @@ std::uint32_t copy_behind(
     return best;
 }
 
+/// Triangle t's rest-space normal (not normalized).
+Vec3 rest_normal(const Embedding& e, std::size_t t) {
+    const Vec3 &a = e.rest[e.triangles[3 * t]], &b = e.rest[e.triangles[3 * t + 1]],
+               &c = e.rest[e.triangles[3 * t + 2]];
+    return (b - a).cross(c - a);
+}
+
 /// Whether p lies on triangle (a, b, c) (within `tol` of its plane, inside its edges).
 bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double tol) {
     const Vec3 n = (b - a).cross(c - a);
@@ -115,9 +122,7 @@ void separate_lip_nodes(Embedding& e, SplitState& state, const mesh::Mesh& mesh,
     for (std::size_t t = 0; t < e.lip.size(); ++t) {
         if (!e.lip[t])
             continue;
-        const Vec3 a = e.rest[e.triangles[3 * t]], b = e.rest[e.triangles[3 * t + 1]],
-                   c = e.rest[e.triangles[3 * t + 2]];
-        const Vec3 n = (b - a).cross(c - a);
+        const Vec3 n = rest_normal(e, t);
         for (int k = 0; k < 3; ++k) {
             std::uint32_t& g = e.triangles[3 * t + std::size_t(k)];
             if (const auto it = twins.find(g); it != twins.end())
@@ -457,9 +462,7 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
     for (std::size_t t = 0; t < num_tri; ++t) {
         if (!e.lip[t])
             continue;
-        const Vec3 a = e.rest[e.triangles[3 * t]], b = e.rest[e.triangles[3 * t + 1]],
-                   c = e.rest[e.triangles[3 * t + 2]];
-        const Vec3 n = (b - a).cross(c - a);
+        const Vec3 n = rest_normal(e, t);
         for (int k = 0; k < 3; ++k) {
             std::uint32_t& g = e.triangles[3 * t + std::size_t(k)];
             const auto it = refined_at.find(key_of(e.rest[g]));

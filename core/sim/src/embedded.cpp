@@ -105,17 +105,22 @@ void Simulation::Impl::refresh_embedded() {
         && cut->node_map.empty();
     // The unsplit surface follows the cut where it changed cells; anything else (an undo, a
     // reset, node ids renumbered) embeds it anew.
-    if (follows) {
+    // An embedding's vertices follow the cut's cell map; those in changed (or merged-away)
+    // cells are returned, to be embedded again.
+    auto moved_by_cut = [&cut](embed::Embedding& e) {
         std::vector<std::uint32_t> moved;
         const std::vector<Index>& changed = cut->changed_cells;
-        for (std::size_t v = 0; v < embedded_base->cells.size(); ++v) {
-            Index c = embedded_base->cells[v];
+        for (std::size_t v = 0; v < e.cells.size(); ++v) {
+            Index c = e.cells[v];
             if (!cut->cell_map.empty() && c != kNone && std::size_t(c) < cut->cell_map.size())
-                c = embedded_base->cells[v] = cut->cell_map[std::size_t(c)];
+                c = e.cells[v] = cut->cell_map[std::size_t(c)];
             if (c == kNone || std::binary_search(changed.begin(), changed.end(), c))
                 moved.push_back(std::uint32_t(v));
         }
-        embed::reembed(*embedded_base, mesh, moved, poly);
+        return moved;
+    };
+    if (follows) {
+        embed::reembed(*embedded_base, mesh, moved_by_cut(*embedded_base), poly);
     } else {
         std::vector<Vec3> rest(embedded->rest.begin(),
             embedded->rest.begin() + std::ptrdiff_t(embedded_loaded_vertices));
@@ -125,16 +130,7 @@ void Simulation::Impl::refresh_embedded() {
     if (local) {
         // Only what this cut changed: vertices in changed (or merged-away) cells are embedded
         // again, and the surface is split along the new Cut faces.
-        std::vector<std::uint32_t> moved;
-        const std::vector<Index>& changed = cut->changed_cells;
-        for (std::size_t v = 0; v < embedded->cells.size(); ++v) {
-            Index c = embedded->cells[v];
-            if (!cut->cell_map.empty() && c != kNone && std::size_t(c) < cut->cell_map.size())
-                c = embedded->cells[v] = cut->cell_map[std::size_t(c)];
-            if (c == kNone || std::binary_search(changed.begin(), changed.end(), c))
-                moved.push_back(std::uint32_t(v));
-        }
-        local = split_embedded({ cut->cut_faces, cut->duplicated, std::move(moved) });
+        local = split_embedded({ cut->cut_faces, cut->duplicated, moved_by_cut(*embedded) });
         embedded_stats.full = false;
     }
     if (!local) {
