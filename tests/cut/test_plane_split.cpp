@@ -105,10 +105,11 @@ mesh::Mesh u_cell() {
     std::vector<std::vector<Index>> faces;
     for (std::size_t k = 0; k < outline.size(); ++k) { // counterclockwise: outward on the right
         const auto a = outline[k], b = outline[(k + 1) % outline.size()];
-        faces.push_back({ id(a[0], a[1], 0), id(b[0], b[1], 0), id(b[0], b[1], 1), id(a[0], a[1], 1) });
+        faces.push_back(
+            { id(a[0], a[1], 0), id(b[0], b[1], 0), id(b[0], b[1], 1), id(a[0], a[1], 1) });
     }
-    for (const auto& [i, j] : std::vector<std::array<int, 2>> { { 0, 0 }, { 1, 0 }, { 2, 0 },
-             { 0, 1 }, { 2, 1 } }) {
+    for (const auto& [i, j] :
+        std::vector<std::array<int, 2>> { { 0, 0 }, { 1, 0 }, { 2, 0 }, { 0, 1 }, { 2, 1 } }) {
         faces.push_back({ id(i, j, 1), id(i + 1, j, 1), id(i + 1, j + 1, 1), id(i, j + 1, 1) });
         faces.push_back({ id(i, j + 1, 0), id(i + 1, j + 1, 0), id(i + 1, j, 0), id(i, j, 0) });
     }

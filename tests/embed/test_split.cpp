@@ -397,7 +397,8 @@ TEST(SplitRandom, PlanesAtRandomKeepTheSurfaceClosedAndExact) {
         const Vec3 centre = Vec3(0, 0, 0.02) + offset * n;
         auto blade_down_to = [&](double depth) { // from above the sphere down to `depth`
             const Vec3 a = centre + 0.04 * up - 0.04 * along, b = centre + 0.04 * up + 0.04 * along;
-            const Vec3 c = centre + depth * up - 0.04 * along, d = centre + depth * up + 0.04 * along;
+            const Vec3 c = centre + depth * up - 0.04 * along,
+                       d = centre + depth * up + 0.04 * along;
             return std::vector<cut::Triangle> { { a, b, c }, { b, d, c } };
         };
         const double first = 0.012 * u(rng), second = first - 0.006 - 0.004 * (u(rng) + 1);
@@ -420,7 +421,8 @@ TEST(SplitRandom, PlanesAtRandomKeepTheSurfaceClosedAndExact) {
             ++cases;
             carried += depth == second;
             EXPECT_EQ(unbalanced_edges(f.e.triangles), 0)
-                << "trial " << trial << " depth " << depth << "\n" << describe_open_edges(f.e);
+                << "trial " << trial << " depth " << depth << "\n"
+                << describe_open_edges(f.e);
             non_manifold += open_edges(f.e.triangles) > 0;
             EXPECT_NEAR(volume(f.e.rest, f.e.triangles), f.sphere_volume, 1e-9 * f.sphere_volume)
                 << "trial " << trial;

@@ -129,7 +129,8 @@ std::string describe_open_edges(const sim::Surface& s) {
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::size_t>> at;
     for (std::size_t t = 0; t < s.triangles.size() / 3; ++t)
         for (int k = 0; k < 3; ++k)
-            at[{ s.triangles[3 * t + std::size_t(k)], s.triangles[3 * t + std::size_t((k + 1) % 3)] }]
+            at[{ s.triangles[3 * t + std::size_t(k)],
+                   s.triangles[3 * t + std::size_t((k + 1) % 3)] }]
                 .push_back(t);
     std::string out;
     for (const auto& [e, ts] : at) {

@@ -23,7 +23,8 @@ namespace {
 /// Points hashed on a uniform grid of cell size h.
 class PointGrid {
 public:
-    explicit PointGrid(double h) : m_h(h) { }
+    explicit PointGrid(double h)
+        : m_h(h) { }
     std::array<long long, 3> cell(const Vec3& p) const {
         return { (long long)std::floor(p.x() / m_h), (long long)std::floor(p.y() / m_h),
             (long long)std::floor(p.z() / m_h) };
@@ -51,7 +52,8 @@ private:
 };
 
 /// Ear clipping of a planar loop (indices into `points`) with normal n; collinear corners are
-/// not ears, nor corners whose ear has another corner inside or on it. A loop with no ear left (rounding) is finished as a fan from its sharpest corner.
+/// not ears, nor corners whose ear has another corner inside or on it. A loop with no ear left
+/// (rounding) is finished as a fan from its sharpest corner.
 void ear_clip(const std::vector<Vec3>& points, std::vector<std::uint32_t> loop, const Vec3& n,
     std::vector<std::array<std::uint32_t, 3>>& out) {
     const Vec3 u = n.unitOrthogonal(), v = n.normalized().cross(u);
@@ -72,7 +74,8 @@ void ear_clip(const std::vector<Vec3>& points, std::vector<std::uint32_t> loop, 
         double sharpest = -std::numeric_limits<double>::infinity();
         std::size_t sharpest_at = 0;
         for (std::size_t k = 0; k < m && ear == m; ++k) {
-            const auto a = flat(loop[(k + m - 1) % m]), b = flat(loop[k]), c = flat(loop[(k + 1) % m]);
+            const auto a = flat(loop[(k + m - 1) % m]), b = flat(loop[k]),
+                       c = flat(loop[(k + 1) % m]);
             const double turn = cross(a, b, c);
             if (turn > sharpest) {
                 sharpest = turn;
@@ -87,8 +90,8 @@ void ear_clip(const std::vector<Vec3>& points, std::vector<std::uint32_t> loop, 
                 const auto p = flat(loop[j]);
                 // A corner inside the ear or on its closing edge blocks it (on that edge, the
                 // last triangle would be flat).
-                empty = !(cross(a, b, p) >= -eps && cross(b, c, p) >= -eps
-                    && cross(c, a, p) >= -eps);
+                empty
+                    = !(cross(a, b, p) >= -eps && cross(b, c, p) >= -eps && cross(c, a, p) >= -eps);
             }
             if (empty)
                 ear = k;
@@ -171,7 +174,8 @@ void extend_past_the_mesh(
     for (const mesh::Face& face : mesh.faces)
         if (face.boundary() && face.tag == mesh::FaceTag::Skin)
             for (std::size_t k = 0; k < face.nodes.size(); ++k)
-                skin_edges.insert(std::minmax(face.nodes[k], face.nodes[(k + 1) % face.nodes.size()]));
+                skin_edges.insert(
+                    std::minmax(face.nodes[k], face.nodes[(k + 1) % face.nodes.size()]));
     struct Border {
         std::uint32_t a, b;
         std::size_t face;
@@ -222,16 +226,17 @@ void extend_past_the_mesh(
         if (!(d.norm() > 1e-6))
             continue;
         if (s.front.count(key_of(s.cut.points[w])))
-            s.front.insert(key_of(s.cut.points[w] + std::min(reach, shortest.at(w)) * d.normalized()));
+            s.front.insert(
+                key_of(s.cut.points[w] + std::min(reach, shortest.at(w)) * d.normalized()));
         moved[w] = std::uint32_t(s.cut.points.size());
-        s.cut.points.push_back(
-            s.cut.points[w] + std::min(reach, shortest.at(w)) * d.normalized());
+        s.cut.points.push_back(s.cut.points[w] + std::min(reach, shortest.at(w)) * d.normalized());
     }
     for (const Border& e : border) {
         const auto ia = moved.find(e.a), ib = moved.find(e.b);
         if (ia == moved.end() || ib == moved.end())
             continue;
-        s.loops.emplace_back(e.face, std::vector<std::uint32_t> { e.a, ia->second, ib->second, e.b });
+        s.loops.emplace_back(
+            e.face, std::vector<std::uint32_t> { e.a, ia->second, ib->second, e.b });
         ++s.extension_quads;
     }
 }
@@ -348,7 +353,8 @@ CutSurface build_cut_surface(const mesh::Mesh& mesh, const std::vector<Index>& c
         for (const Index n : mesh.faces[std::size_t(s.faces[i])].nodes)
             s.side_node[s.side[i]].emplace(key_of(s.cut.points[welded.at(n)]), n);
     for (const auto& [key, node] : s.side_node[0])
-        if (const auto it = s.side_node[1].find(key); it != s.side_node[1].end() && it->second == node)
+        if (const auto it = s.side_node[1].find(key);
+            it != s.side_node[1].end() && it->second == node)
             s.front.insert(key);
 
     // 3. Side 0's loops of welded corners, triangulated with the corners on their edges.

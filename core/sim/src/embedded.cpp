@@ -101,8 +101,8 @@ void Simulation::Impl::refresh_embedded() {
         return;
     const Stopwatch watch;
     const basis::PolyBasis poly = basis_options(scene).poly;
-    const bool follows = cut != nullptr && embedded_version + 1 == topology_version
-        && cut->node_map.empty();
+    const bool follows
+        = cut != nullptr && embedded_version + 1 == topology_version && cut->node_map.empty();
     // The unsplit surface follows the cut where it changed cells; anything else (an undo, a
     // reset, node ids renumbered) embeds it anew.
     // An embedding's vertices follow the cut's cell map; those in changed (or merged-away)
