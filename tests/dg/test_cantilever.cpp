@@ -18,6 +18,22 @@ using namespace polycut::dg;
 namespace {
 constexpr double kReference = 8.64e-3;
 
+DgOptions degree(int p) {
+    DgOptions o;
+    o.degree = p;
+    return o;
+}
+
+/// The 2 x 2 x 2 box of cut cells as a DG model of degree p, its mesh kept beside it.
+struct DgBox {
+    mesh::Mesh mesh;
+    DgModel model;
+    explicit DgBox(int p)
+        : mesh(test::box_mesh(test::Kind::Cut, 2))
+        , model(mesh, elasticity::Material {}, degree(p)) { }
+    DgBox(const DgBox&) = delete; // the model points at this mesh
+};
+
 double tip_deflection(const Eigen::Vector3i& cells, int p) {
     mesh::BoxGrid g;
     g.hi = Vec3(1.2, 0.3, 0.2);
@@ -73,11 +89,8 @@ TEST(DgCantilever, TipDeflectionAgainstTheBeamReference) {
 
 TEST(DgCantilever, CorotatedForcesVanishUnderRigidRotation) {
     for (int p : { 1, 2 }) {
-        const mesh::Mesh m = test::box_mesh(test::Kind::Cut, 2);
-        elasticity::Material mat;
-        DgOptions o;
-        o.degree = p;
-        DgModel model(m, mat, o);
+        DgBox box(p);
+        DgModel& model = box.model;
         const Mat3 R = Eigen::AngleAxisd(0.8, Vec3(1, 2, -1).normalized()).toRotationMatrix();
         MatX3 x = model.rest();
         for (Index c = 0; c < model.num_cells(); ++c)
@@ -103,11 +116,8 @@ TEST(DgCorotation, StiffnessInTurnsEqualsAFullAssemblyOnceEveryCellHadItsTurn) {
     // full at a twisted state x0, `period` turns at a more twisted x1 must give the K of a full
     // assembly at x1 (each cell's terms moved exactly once), and every turn the full f_int.
     for (int p : { 1, 2 }) {
-        const mesh::Mesh m = test::box_mesh(test::Kind::Cut, 2);
-        elasticity::Material mat;
-        DgOptions o;
-        o.degree = p;
-        DgModel model(m, mat, o);
+        DgBox box(p);
+        DgModel& model = box.model;
         // Each cell turned about x by an angle growing along x (a twist: no common rotation).
         auto twisted = [&](double rate) {
             MatX3 x = model.rest();

@@ -1,6 +1,7 @@
 // The embedded surface through the facade (issue 15 item 2): the surface the simulation hands
 // out (stream, renderer) is the embedded one, it follows the tissue, contact samples it, and
 // a cut splits it along the blade and closes it with detailed lips (tag 2).
+#include "../embed/uv_sphere.hpp"
 #include "polycut/sim/simulation.hpp"
 
 #include <cmath>
@@ -14,26 +15,9 @@ using namespace polycut;
 namespace {
 /// A UV sphere of radius r about c as an OFF file in the temp directory; returns its path.
 std::string sphere_off(const Vec3& c, double r, int rings, int segments) {
-    constexpr double pi = 3.14159265358979323846;
-    std::vector<Vec3> v { c + Vec3(0, 0, r) };
-    for (int i = 1; i < rings; ++i)
-        for (int j = 0; j < segments; ++j) {
-            const double th = pi * i / rings, ph = 2 * pi * j / segments;
-            v.push_back(c
-                + r * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
-        }
-    v.push_back(c - Vec3(0, 0, r));
-    const int south = int(v.size()) - 1;
-    auto ring = [&](int i, int j) { return 1 + (i - 1) * segments + (j % segments); };
-    std::vector<std::array<int, 3>> t;
-    for (int j = 0; j < segments; ++j) {
-        t.push_back({ 0, ring(1, j), ring(1, j + 1) });
-        t.push_back({ south, ring(rings - 1, j + 1), ring(rings - 1, j) });
-        for (int i = 1; i + 1 < rings; ++i) {
-            t.push_back({ ring(i, j), ring(i + 1, j), ring(i + 1, j + 1) });
-            t.push_back({ ring(i, j), ring(i + 1, j + 1), ring(i, j + 1) });
-        }
-    }
+    std::vector<Vec3> v;
+    std::vector<std::array<Index, 3>> t;
+    test::uv_sphere(c, r, rings, segments, v, t);
     const auto path = std::filesystem::temp_directory_path() / "polycut_test_embedded_sphere.off";
     std::ofstream out(path);
     out.precision(17);

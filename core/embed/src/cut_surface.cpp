@@ -446,4 +446,53 @@ void fit_to_skin(CutSurface& s, const std::vector<Vec3>& points) {
     s.cut.points = std::move(kept);
 }
 
+bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double tol) {
+    const Vec3 n = (b - a).cross(c - a);
+    const double area2 = n.norm();
+    if (!(area2 > 0) || std::abs((p - a).dot(n)) > tol * area2)
+        return false;
+    const double eps = -1e-9 * area2 * area2;
+    return (b - a).cross(p - a).dot(n) >= eps && (c - b).cross(p - b).dot(n) >= eps
+        && (a - c).cross(p - c).dot(n) >= eps;
+}
+
+bool meets_earlier_cut(const CutSurface& s, const mesh::Mesh& mesh,
+    const std::vector<Index>& fresh_faces,
+    const std::map<Key, std::vector<std::uint32_t>>& seam_vertices) {
+    // New faces meeting an earlier cut's faces (a stroke carried on): the two cut surfaces, and
+    // their extensions past the mesh's skin, would be triangulated and extended each on its
+    // own, and their lips would overlap where they meet.
+    const std::set<Index> fresh(fresh_faces.begin(), fresh_faces.end());
+    std::set<Index> nodes;
+    for (const Index f : s.faces)
+        for (const Index n : mesh.faces[std::size_t(f)].nodes)
+            nodes.insert(n);
+    for (Index f = 0; f < mesh.num_faces(); ++f) {
+        const mesh::Face& face = mesh.faces[std::size_t(f)];
+        if (face.boundary() && face.tag == mesh::FaceTag::Cut && !fresh.count(f)
+            && std::any_of(
+                face.nodes.begin(), face.nodes.end(), [&](Index n) { return nodes.count(n) > 0; }))
+            return true;
+    }
+    // A Cut face that grew (the blade carried on through a cell it had only entered): the skin
+    // is already split along the earlier faces, which the new ones cover only up to rounding;
+    // corefining again would cross the old seams at rounding-sized angles.
+    constexpr double kOnCut = 1e-9; // [m], far above rounding, far below any triangle
+    for (const auto& [key, ids] : seam_vertices) {
+        const Vec3 p(key[0], key[1], key[2]);
+        Box at;
+        at.add(p);
+        if (!at.overlaps(s.all, kOnCut))
+            continue;
+        for (std::size_t t = 0; t < s.cut.triangles.size(); ++t) {
+            const auto& tri = s.cut.triangles[t];
+            if (at.overlaps(s.triangle_box[t], kOnCut)
+                && on_triangle(
+                    p, s.cut.points[tri[0]], s.cut.points[tri[1]], s.cut.points[tri[2]], kOnCut))
+                return true;
+        }
+    }
+    return false;
+}
+
 } // namespace polycut::embed::detail

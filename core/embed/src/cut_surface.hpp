@@ -64,4 +64,15 @@ CutSurface build_cut_surface(const mesh::Mesh& mesh, const std::vector<Index>& c
 /// between the two that the lips cannot close. Keeps side_node's keys in step.
 void fit_to_skin(CutSurface& s, const std::vector<Vec3>& points);
 
+/// Whether p lies on triangle (a, b, c) (within `tol` of its plane, inside its edges).
+bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double tol);
+
+/// Whether the cut surface meets an earlier cut (the caller then splits anew along all the Cut
+/// faces, decision 0033): one of its faces shares a node with a Cut face of the mesh not in
+/// `fresh_faces`, or a vertex on an earlier seam (`seam_vertices`, by rest position) lies on
+/// one of its triangles.
+bool meets_earlier_cut(const CutSurface& s, const mesh::Mesh& mesh,
+    const std::vector<Index>& fresh_faces,
+    const std::map<Key, std::vector<std::uint32_t>>& seam_vertices);
+
 } // namespace polycut::embed::detail

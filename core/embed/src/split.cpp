@@ -59,17 +59,6 @@ Vec3 rest_normal(const Embedding& e, std::size_t t) {
     return (b - a).cross(c - a);
 }
 
-/// Whether p lies on triangle (a, b, c) (within `tol` of its plane, inside its edges).
-bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double tol) {
-    const Vec3 n = (b - a).cross(c - a);
-    const double area2 = n.norm();
-    if (!(area2 > 0) || std::abs((p - a).dot(n)) > tol * area2)
-        return false;
-    const double eps = -1e-9 * area2 * area2;
-    return (b - a).cross(p - a).dot(n) >= eps && (c - b).cross(p - b).dot(n) >= eps
-        && (a - c).cross(p - c).dot(n) >= eps;
-}
-
 /// Appends a vertex with its probe (weights come from the re-embedding).
 std::uint32_t add_vertex(Embedding& e, const Vec3& rest, const Vec3& probe) {
     e.rest.push_back(rest);
@@ -161,54 +150,13 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
     const auto& side_node = surface.side_node;
     report.cut_faces = faces.size();
     report.cut_triangles = cut.triangles.size();
-    // A cut over ground an earlier one split (a Cut face that grew: the blade carried on
-    // through a cell it had only entered): the skin there is already split along the earlier
-    // faces, and the new faces cover the same rest plane only up to rounding, so corefining
-    // again would cross the old seams at rounding-sized angles. The caller splits anew instead,
-    // along all the Cut faces at once (decision 0033). Nothing has changed yet.
-    // The same when the new faces meet an earlier cut's faces (a stroke carried on): the two
-    // cut surfaces, and their extensions past the mesh's skin, would each be triangulated and
-    // extended on their own, and their lips would overlap where they meet.
-    if (!state.copies.empty() && !cut.triangles.empty()) {
-        std::set<Index> fresh(change.cut_faces.begin(), change.cut_faces.end());
-        std::set<Index> nodes;
-        for (const Index f : faces)
-            for (const Index n : mesh.faces[std::size_t(f)].nodes)
-                nodes.insert(n);
-        for (Index f = 0; f < mesh.num_faces() && !report.overlaps_earlier_cut; ++f) {
-            const mesh::Face& face = mesh.faces[std::size_t(f)];
-            if (!face.boundary() || face.tag != mesh::FaceTag::Cut || fresh.count(f))
-                continue;
-            for (const Index n : face.nodes)
-                if (nodes.count(n)) {
-                    report.overlaps_earlier_cut = true;
-                    break;
-                }
-        }
-        if (report.overlaps_earlier_cut) {
-            report.total_ms = watch.ms();
-            return report;
-        }
-    }
-    if (!state.copies.empty() && !cut.triangles.empty()) {
-        constexpr double kOnCut = 1e-9; // [m], far above rounding, far below any triangle
-        for (const auto& [key, ids] : state.copies) {
-            const Vec3 p(key[0], key[1], key[2]);
-            Box at;
-            at.add(p);
-            if (!at.overlaps(all, kOnCut))
-                continue;
-            for (std::size_t c = 0; c < cut.triangles.size(); ++c) {
-                const auto& tri = cut.triangles[c];
-                if (at.overlaps(cut_box[c], kOnCut)
-                    && on_triangle(
-                        p, cut.points[tri[0]], cut.points[tri[1]], cut.points[tri[2]], kOnCut)) {
-                    report.overlaps_earlier_cut = true;
-                    report.total_ms = watch.ms();
-                    return report;
-                }
-            }
-        }
+    // Over an earlier cut (a Cut face that grew, or new faces meeting earlier ones): the caller
+    // splits anew along all the Cut faces at once (decision 0033). Nothing has changed yet.
+    if (!state.copies.empty() && !cut.triangles.empty()
+        && detail::meets_earlier_cut(surface, mesh, change.cut_faces, state.copies)) {
+        report.overlaps_earlier_cut = true;
+        report.total_ms = watch.ms();
+        return report;
     }
     std::vector<std::uint32_t> reembed_list = change.reembed;
     separate_lip_nodes(e, state, mesh, change.duplicated, reembed_list, report);
@@ -505,7 +453,7 @@ SplitReport split_along_cut(Embedding& e, SplitState& state, const mesh::Mesh& m
                 bool on_cut = false;
                 for (std::size_t c = 0; c < cut.triangles.size() && !on_cut; ++c) {
                     const auto& tri = cut.triangles[c];
-                    on_cut = on_triangle(
+                    on_cut = detail::on_triangle(
                         centroid, cut.points[tri[0]], cut.points[tri[1]], cut.points[tri[2]], 1e-9);
                 }
                 if (on_cut) {
