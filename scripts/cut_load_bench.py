@@ -6,7 +6,7 @@ run: the reply's wall time, the ticks the cut took, the worst frame interval and
 stream during the cut, get_stats' worst tick, and the cut's completion state.
 
     scripts/cut_load_bench.py POLYCUT_SERVER [--sizes 500,2000,4000] [--cutters snap,split]
-        [--shapes stroke,random] [--json OUT]
+        [--shapes stroke,random] [--json OUT] [--record-dir DIR]
 
 Shapes: `stroke` = a coherent quarter-circle stroke through the block (T/2 samples, 2
 triangles each, down to 2 cm deep); `random` = T random triangles of ~1 cm in the block.
@@ -53,8 +53,12 @@ def random_tris(T, seed=1):
     return tris
 
 
-def run(exe, scene_path, cutter, shape, T):
-    server = live.ServerProcess(exe, ["--scene", scene_path, "--rate", "60", "--quiet"])
+def run(exe, scene_path, cutter, shape, T, record_dir=None):
+    extra = []
+    if record_dir:
+        # a command log per case, for `polycut-server --replay LOG --trace`
+        extra = ["--record-commands", os.path.join(record_dir, f"{cutter}_{shape}_{T}.log")]
+    server = live.ServerProcess(exe, ["--scene", scene_path, "--rate", "60", "--quiet"] + extra)
     ready = server.start()
     ctx = zmq.Context.instance()
     sub = ctx.socket(zmq.SUB)
@@ -119,6 +123,7 @@ def main():
     ap.add_argument("--cutters", default="snap,split")
     ap.add_argument("--shapes", default="stroke,random")
     ap.add_argument("--json")
+    ap.add_argument("--record-dir", help="write each case's command log here (for --replay)")
     args = ap.parse_args()
     base = json.load(open(os.path.join(HERE, "..", "assets", "scenes", "default.json")))
     out = []
@@ -133,7 +138,7 @@ def main():
             json.dump(scene, f)
         for shape in args.shapes.split(","):
             for T in (int(t) for t in args.sizes.split(",")):
-                r = run(args.server, path, cutter, shape, T)
+                r = run(args.server, path, cutter, shape, T, args.record_dir)
                 print(json.dumps(r), flush=True)
                 out.append(r)
     if args.json:

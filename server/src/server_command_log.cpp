@@ -3,6 +3,7 @@
 
 #include "polycut/common/error.hpp"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 namespace polycut::server {
@@ -130,7 +131,14 @@ ReplaySummary replay_command_log(const std::string& path, Session& session,
         }
         const std::string text = record["request"].dump();
         const std::string_view frame(text);
-        auto request = protocol::decode_request(std::span<const std::string_view>(&frame, 1));
+        // The server accepted this request within its limits; the log holds it as one JSON
+        // frame (a cut's binary triangles written out as numbers, ~2.7x the bytes), so the
+        // wire's frame limits do not apply here (a 2,000-triangle cut is ~390 kB of JSON).
+        protocol::Limits limits;
+        limits.max_json_bytes = limits.max_frame_bytes
+            = std::max<std::uint64_t>(limits.max_frame_bytes, std::uint64_t(text.size()));
+        auto request
+            = protocol::decode_request(std::span<const std::string_view>(&frame, 1), limits);
         if (!request) {
             throw FileError(path, line_no, "invalid request: " + request.error().error.reason);
         }

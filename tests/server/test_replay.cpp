@@ -114,6 +114,36 @@ TEST_F(Replay, RunningSessionReplaysToTheSameStateHash) {
     EXPECT_EQ(hex64(r.state_hash), live_hash);
 }
 
+TEST_F(Replay, LargeBinaryCutReplays) {
+    // A 2,000-triangle cut sent as a binary frame (~24 kB as float32) is logged as JSON (~390
+    // kB, over the wire's 256 KiB JSON limit): the replay must still take it.
+    ServerConfig config = test_config(dir, true);
+    const std::string log = dir.file("commands.jsonl");
+    config.record_commands = log;
+    std::vector<Triangle3> strip;
+    for (int k = 0; k < 1000; ++k) {
+        const auto quad
+            = incision(0.003, -0.012 + 0.024 * k / 1000, -0.012 + 0.024 * (k + 1) / 1000, 0.008);
+        strip.insert(strip.end(), quad.begin(), quad.end());
+    }
+    std::string live_hash;
+    std::int64_t live_tick = 0;
+    {
+        RunningServer server(config);
+        Client client(context, server.control());
+        client.ok<CutResult>(CutParams { strip }, EncodeOptions { true });
+        client.ok<RunState>(StepParams { 130 }); // 16 triangles a tick: all of it cut
+        const Stats s = client.stats();
+        live_hash = s.state_hash;
+        live_tick = s.tick;
+    }
+    EXPECT_GT(std::filesystem::file_size(log), std::uintmax_t(256u << 10));
+    const ReplaySummary r = replay(log);
+    EXPECT_EQ(r.rejected, 0u);
+    EXPECT_EQ(r.tick, live_tick);
+    EXPECT_EQ(hex64(r.state_hash), live_hash);
+}
+
 TEST(ReplayLog, MalformedLogsAreFileErrors) {
     const auto path = std::filesystem::temp_directory_path() / "polycut_bad_log.jsonl";
     std::ofstream(path) << "{\"polycut_command_log\":1,\"scene_file\":null}\nnot json\n";

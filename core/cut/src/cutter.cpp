@@ -68,7 +68,26 @@ const mesh::Mesh& Cutter::mesh() const {
     return m_impl->ed.m;
 }
 
-CutReport Cutter::cut(std::span<const Triangle> rest_triangles, Index max_changed_cells) {
+namespace {
+// The model update a call leaves: the changed cells in tet equivalents, each weighted by the
+// square of its face corners / 12 (CutReport::work).
+double changed_work(const detail::Editor& ed) {
+    double work = 0;
+    for (Index c : ed.changed_cells()) {
+        if (c >= ed.m.num_cells())
+            continue;
+        std::size_t corners = 0;
+        for (Index f : at(ed.m.cells, c).faces)
+            corners += at(ed.m.faces, f).nodes.size();
+        const double k = double(corners) / 12.0; // a tet: 4 faces x 3 corners
+        work += k * k;
+    }
+    return work;
+}
+} // namespace
+
+CutReport Cutter::cut(
+    std::span<const Triangle> rest_triangles, Index max_changed_cells, std::span<const char> may_stop) {
     Stopwatch watch;
     m_impl->validate(rest_triangles);
     CutReport report;
@@ -80,7 +99,10 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles, Index max_change
         if (crack.empty())
             ++report.triangles_missed;
         detail::separate(ed, crack);
-        if (max_changed_cells > 0 && Index(ed.changed_cells().size()) >= max_changed_cells)
+        const std::size_t t = std::size_t(report.triangles) - 1;
+        if (max_changed_cells > 0 && (may_stop.empty() || (t < may_stop.size() && may_stop[t]))
+            && (Index(ed.changed_cells().size()) >= max_changed_cells
+                || changed_work(ed) >= double(max_changed_cells)))
             break;
     }
     detail::fail_if_injected();
@@ -91,6 +113,7 @@ CutReport Cutter::cut(std::span<const Triangle> rest_triangles, Index max_change
         report.nodes_coarsened = detail::remove_collinear_nodes(ed, ed.changed_cells());
     detail::merge_slivers(ed);
     ed.end();
+    report.work = changed_work(ed);
     report.elapsed_ms = watch.ms();
     return report;
 }

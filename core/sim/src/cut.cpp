@@ -52,7 +52,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
             summary.swept_area = result.swept_area;
             s.swept_area += result.swept_area;
             if (budget > 0)
-                s.cut_cells_left -= Index(result.report.changed_cells.size());
+                s.cut_cells_left -= std::max(Index(result.report.changed_cells.size()),
+                    Index(std::ceil(result.report.work)));
         } else {
             s.swept_area_undone += result.swept_area;
         }
@@ -72,6 +73,7 @@ void Simulation::Impl::ensure_cutting() {
                                                                 : cut::CutMethod::Split;
     opt.split.snap = scene.cutting.snap_distance;
     opt.split.sliver_volume = scene.cutting.sliver_volume;
+    opt.strip_min_advance = opt.method == cut::CutMethod::Split ? blade_min_advance() : 0.0;
     cutting = std::make_unique<cut::CutPipeline>(mesh, initial_mesh, opt);
 }
 
@@ -139,11 +141,14 @@ void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
 }
 
 double Simulation::blade_min_advance() const {
-    const Impl& s = *m_impl;
-    if (s.scene.cutting.method == scene::CutMethod::Snap)
+    return m_impl->blade_min_advance();
+}
+
+double Simulation::Impl::blade_min_advance() const {
+    if (scene.cutting.method == scene::CutMethod::Snap)
         return 0.0;
     constexpr double kMinAdvance = 0.25; // of the mean cell size
-    return kMinAdvance * s.initial_cell_size;
+    return kMinAdvance * initial_cell_size;
 }
 
 CutSummary Simulation::end_stroke() {

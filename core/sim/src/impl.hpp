@@ -76,6 +76,9 @@ struct Simulation::Impl {
     std::unique_ptr<cut::CutPipeline> cutting;
     /// Makes `cutting` for the current mesh if there is none.
     void ensure_cutting();
+    /// Simulation::blade_min_advance(): samples of a splitting stroke closer than this [m] are
+    /// swept together (the server holds scalpel samples, the pipeline coarsens cut strips).
+    double blade_min_advance() const;
     /// prepare_cutting() built `cutting` at load (its cost is the "cut" entry of build_parts)
     bool cutting_prepared = false;
     /// Cells the cuts of this tick may still change (scene cutting.max_cells_per_tick; reset

@@ -72,6 +72,13 @@ struct CutReport {
     /// must re-analyse.
     bool pattern_changed = false;
     double elapsed_ms = 0; ///< wall time of the call [ms]
+    /// Cell splitting: the cells the call changed in tet equivalents, each weighted by the
+    /// square of its face corners / 12 (a tet 1; a polyhedron of 40 corners, what a cell
+    /// re-cut by many small triangles becomes, 11.1). The model update after a cut (mean value
+    /// integration and stiffness of the changed cells) grows so: on the default block it was
+    /// 0.04-0.05 ms per unit, r = 0.96-0.99 over curved and random strokes, where the plain
+    /// count of changed cells did not predict it. What the per-tick cut budget counts.
+    double work = 0;
     /// Face snapping (`tet`) only: old node id -> new id (kNone if collapsed away); empty when
     /// no node was removed. Ids in `new_nodes`, `duplicated` and `moved_nodes` are after the call;
     /// NodeOrigin weights refer to ids before it.

@@ -32,9 +32,12 @@ public:
     /// extends the cut of the previous ones). Throws InputError (mesh unchanged) if any triangle
     /// has a non-finite coordinate, is degenerate, or lies absurdly far away. With
     /// `max_changed_cells` > 0 the call stops after the first triangle that brings the cells it
-    /// changed to that many (CutReport::triangles says how many were cut; the caller passes the
-    /// rest again later).
-    CutReport cut(std::span<const Triangle> rest_triangles, Index max_changed_cells = 0);
+    /// changed, or their CutReport::work, to that many (CutReport::triangles says how many were
+    /// cut; the caller passes the rest again later); with `may_stop` given (one flag per
+    /// triangle), only after a triangle whose flag is set (the halves of a coarsened strip quad
+    /// are cut together).
+    CutReport cut(std::span<const Triangle> rest_triangles, Index max_changed_cells = 0,
+        std::span<const char> may_stop = {});
 
     /// Splits cells crossed by the plane through `point` with normal `normal` [rest space] into
     /// two convex cells each, without separating anything. `cells` lists the cells to split (all

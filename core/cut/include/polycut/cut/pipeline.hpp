@@ -34,6 +34,10 @@ struct PipelineOptions {
     CutMethod method = CutMethod::Split;
     CutOptions split; ///< the cell-splitting cutter's tolerances
     SnapOptions snap; ///< the face-snapping cutter's tolerances
+    /// Cell splitting: a strip of sweep triangles in the scalpel's order whose samples are
+    /// closer than this [m] is swept through fewer, wider quads (the blade resolution the
+    /// server's `scalpel` samples get, Simulation::blade_min_advance); 0: as given.
+    double strip_min_advance = 0;
 };
 
 /// Outcome of a pipeline call.
