@@ -119,6 +119,7 @@ std::map<std::string, Getter> getters() {
     g["cutting/sliver_volume"] = [](const Scene& s) { return num(s.cutting.sliver_volume); };
     g["cutting/max_cells_per_tick"]
         = [](const Scene& s) { return num(double(s.cutting.max_cells_per_tick)); };
+    g["cutting/max_model_growth"] = [](const Scene& s) { return num(s.cutting.max_model_growth); };
     return g;
 }
 

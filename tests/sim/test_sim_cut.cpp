@@ -93,3 +93,31 @@ TEST(SimulationCut, StaticSceneFixesAPieceCutFree) {
     EXPECT_EQ(second.pieces_fixed, 0);
     EXPECT_FALSE(s.step().rolled_back);
 }
+
+TEST(SimulationCut, ACutPastTheModelGrowthLimitIsUndone) {
+    // cutting.max_model_growth bounds the stiffness nonzeros a cut may leave (a soup of
+    // triangles would make cells of ~100 nodes): past it the cut is undone and reported, and
+    // the simulation goes on with the model as it was. Any split adds nodes and nonzeros, so a
+    // limit of 1.0001 refuses this one; the default (8) takes it.
+    std::string text = kBlock;
+    text.insert(text.rfind('}'), R"(, "cutting": {"max_model_growth": 1.0001})");
+    sim::Simulation tight(scene::parse_scene(text));
+    tight.step();
+    const sim::MeshStats before = tight.mesh_stats();
+    const std::vector<Vec3> x_before = tight.positions();
+    const sim::CutSummary refused = tight.cut(full_sweep(0.0125));
+    EXPECT_EQ(refused.status, sim::CutSummary::Status::Failed);
+    EXPECT_NE(refused.reason.find("max_model_growth"), std::string::npos) << refused.reason;
+    const sim::MeshStats after = tight.mesh_stats();
+    EXPECT_EQ(after.cells, before.cells);
+    EXPECT_EQ(after.nodes, before.nodes);
+    EXPECT_EQ(tight.positions(), x_before);
+    const sim::StepReport r = tight.step();
+    EXPECT_FALSE(r.rolled_back);
+
+    sim::Simulation loose(scene::parse_scene(kBlock));
+    loose.step();
+    const sim::CutSummary applied = loose.cut(full_sweep(0.0125));
+    EXPECT_EQ(applied.status, sim::CutSummary::Status::Applied) << applied.reason;
+    EXPECT_TRUE(applied.topology_changed);
+}

@@ -382,6 +382,7 @@ Cutting parse_cutting(const json& j, const std::string& ptr, CutMethod default_m
     c.sliver_volume = r.number("sliver_volume", c.sliver_volume, 0, 0.5);
     c.max_cells_per_tick = r.integer(
         "max_cells_per_tick", int(c.max_cells_per_tick), 0, std::numeric_limits<int>::max());
+    c.max_model_growth = r.number("max_model_growth", c.max_model_growth, 0, 1e6);
     for_each_item(r, "sweeps", [&](const json& item, const std::string& p) {
         ObjectReader s(item, p);
         Sweep sw;

@@ -105,6 +105,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
         summary.topology_changed = report.topology_changed;
         if (report.topology_changed) {
             resize_state_after_cut(report);
+            check_model_growth();
             check_cut_cells(report.changed_cells);
             if (scene.integrator.type == integrate::IntegratorKind::Static)
                 summary.pieces_fixed = fix_free_pieces();
@@ -173,6 +174,19 @@ CutSummary Simulation::end_stroke() {
         s.integrator->refresh_preconditioner();
     summary.cells_after = int(s.mesh.num_cells());
     return summary;
+}
+
+void Simulation::Impl::check_model_growth() const {
+    const double growth = scene.cutting.max_model_growth;
+    if (!model || !(growth > 0) || initial_nonzeros <= 0)
+        return;
+    const Index nnz = model->num_nonzeros();
+    if (double(nnz) > growth * double(initial_nonzeros))
+        throw Error("cut",
+            "the cut model would hold " + std::to_string(nnz) + " stiffness nonzeros, over "
+                + "cutting.max_model_growth = " + std::to_string(growth) + " x the uncut model's "
+                + std::to_string(initial_nonzeros)
+                + " (sweeps this dense make cells that slow every later step)");
 }
 
 void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {

@@ -79,6 +79,9 @@ struct Simulation::Impl {
     /// Simulation::blade_min_advance(): samples of a splitting stroke closer than this [m] are
     /// swept together (the server holds scalpel samples, the pipeline coarsens cut strips).
     double blade_min_advance() const;
+    /// Throws when the cut model's stiffness outgrew cutting.max_model_growth (the caller
+    /// undoes the cut).
+    void check_model_growth() const;
     /// prepare_cutting() built `cutting` at load (its cost is the "cut" entry of build_parts)
     bool cutting_prepared = false;
     /// Cells the cuts of this tick may still change (scene cutting.max_cells_per_tick; reset
@@ -135,6 +138,8 @@ struct Simulation::Impl {
     /// Cube root of the uncut mesh's mean cell volume [m]: the length the cut tolerances and the
     /// blade's minimum advance are relative to.
     double initial_cell_size = 0;
+    /// Stiffness nonzeros of the uncut model (cutting.max_model_growth)
+    Index initial_nonzeros = 0;
     double body_volume = 0; ///< rest volume of the scene as built [m^3]
     /// Largest rest bounding-box diagonal of a cell of the uncut mesh [m]: how far a material
     /// point can be from its nearest node (pick()).
