@@ -53,12 +53,10 @@ struct Pinch {
         for (std::size_t i = 0; i < cells.size(); ++i)
             for (Index f : at(s.m.cells, cells[i]).faces) {
                 const mesh::Face& face = at(s.m.faces, f);
-                if (cut(f))
-                    continue;
                 bool all = true;
                 for (Index k : keys)
                     all = all && has(face.nodes, k);
-                if (!all)
+                if (!all || cut(f)) // the node test first: it spares most hash look-ups
                     continue;
                 const Index other = face.owner == cells[i] ? face.neighbour : face.owner;
                 const auto it = std::find(cells.begin(), cells.end(), other);
@@ -79,6 +77,11 @@ struct Pinch {
         if (ring.size() < 2)
             return false;
         const auto rr = groups(ring, { a, b });
+        // Pinched only if the ring around the edge falls apart; most edges' rings do not, and
+        // then the two node stars (the dear part: ~90 % of a random soup's face-snapping cut)
+        // need not be grouped.
+        if (std::all_of(rr.begin(), rr.end(), [&](std::size_t r) { return r == rr[0]; }))
+            return false;
         const auto& ca = at(s.node_cells, a);
         const auto& cb = at(s.node_cells, b);
         const auto ga = groups(ca, { a });
@@ -188,17 +191,24 @@ bool swept_around(const State& s, const Vec3& x, double r) {
         }
         return true;
     };
-    for (const SweepPlane& P : s.swept) {
-        if (!inside(P, x, r))
+    // Every point tested lies within 2 r of x (x within r of P, q within r of x's foot on P),
+    // so only planes within 3 r of x can hold one: the rest of a long sweep is skipped (a
+    // random soup's 500 planes made this a third of its face-snapping cut).
+    std::vector<const SweepPlane*> near;
+    for (const SweepPlane& P : s.swept)
+        if (std::abs(P.distance(x)) <= 3 * r)
+            near.push_back(&P);
+    for (const SweepPlane* P : near) {
+        if (!inside(*P, x, r))
             continue;
-        const Vec3 u = P.normal.unitOrthogonal(), v = P.normal.cross(u);
-        const Vec3 x0 = x - P.distance(x) * P.normal;
+        const Vec3 u = P->normal.unitOrthogonal(), v = P->normal.cross(u);
+        const Vec3 x0 = x - P->distance(x) * P->normal;
         bool all = true;
         for (int i = 0; i < 12 && all; ++i) {
             const double t = std::numbers::pi * i / 6.0;
             const Vec3 q = x0 + r * (std::cos(t) * u + std::sin(t) * v);
-            all = std::any_of(s.swept.begin(), s.swept.end(),
-                [&](const SweepPlane& R) { return inside(R, q, r); });
+            all = std::any_of(
+                near.begin(), near.end(), [&](const SweepPlane* R) { return inside(*R, q, r); });
         }
         if (all)
             return true;
