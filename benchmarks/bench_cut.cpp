@@ -13,7 +13,7 @@
 // of settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
 // deformed body (default 1); then A ticks of stepping without a cut (default 0): the hand-over
 // of the set-up the end of the stroke asks for. One JSON object per scene on stdout:
-//   nodes, cells (before/after), cutter
+//   nodes, cells (before/after), cutter, model_growth (MeshStats::model_growth)
 //   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)
 //   cut_cpu_ms, tick_cpu_ms                        the same in CPU time of the process (all
 //                                                  threads): what the work costs, whatever else
@@ -222,14 +222,15 @@ json run(const std::string& path, const Args& a) {
     const sim::ModelStats ms = s.model_stats();
     return { { "scene", path }, { "cutter", a.cutter }, { "nodes", s.positions().size() },
         { "free_dofs", ms.free_dofs }, { "nonzeros", ms.nonzeros },
-        { "cells_before", cells_before }, { "cells_after", s.cell_count() },
-        { "ticks", a.ticks * a.strokes }, { "cut_ms", percentiles(cut_ms) },
-        { "step_ms", percentiles(step_ms) }, { "solve_ms", percentiles(solve_ms) },
-        { "its", percentiles(its) }, { "tick_ms", percentiles(tick_ms) },
-        { "cut_cpu_ms", percentiles(cut_cpu) }, { "tick_cpu_ms", percentiles(tick_cpu) },
-        { "ticks_over_16_7", over_budget }, { "ticks_over_50", over_50 },
-        { "completeness", st.completeness() }, { "failed_cuts", failed },
-        { "deferred_triangles", deferred }, { "undone", undone }, { "undo_reasons", reasons },
+        { "model_growth", st.model_growth }, { "cells_before", cells_before },
+        { "cells_after", s.cell_count() }, { "ticks", a.ticks * a.strokes },
+        { "cut_ms", percentiles(cut_ms) }, { "step_ms", percentiles(step_ms) },
+        { "solve_ms", percentiles(solve_ms) }, { "its", percentiles(its) },
+        { "tick_ms", percentiles(tick_ms) }, { "cut_cpu_ms", percentiles(cut_cpu) },
+        { "tick_cpu_ms", percentiles(tick_cpu) }, { "ticks_over_16_7", over_budget },
+        { "ticks_over_50", over_50 }, { "completeness", st.completeness() },
+        { "failed_cuts", failed }, { "deferred_triangles", deferred }, { "undone", undone },
+        { "undo_reasons", reasons },
         { "after",
             a.after > 0
                 ? json { { "tick_ms", percentiles(after_ms) }, { "its", percentiles(after_its) } }

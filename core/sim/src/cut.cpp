@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <unordered_map>
 
@@ -94,6 +95,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
     // cell the basis cannot handle), the mesh and the state go back to what they were and the
     // error is reported; the simulation keeps running on the uncut mesh.
     const cut::CutReport& report = result.report;
+    bool model_follows = false; // the model was updated to the cut mesh (an undo rebuilds it)
     try {
         if (result.status == cut::CutStatus::Failed)
             throw Error("cut", result.reason);
@@ -104,8 +106,9 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
         summary.nodes_added = int(report.nodes_after - report.nodes_before);
         summary.topology_changed = report.topology_changed;
         if (report.topology_changed) {
+            check_model_growth(); // on the cut mesh, before the model follows it
+            model_follows = true;
             resize_state_after_cut(report);
-            check_model_growth();
             check_cut_cells(report.changed_cells);
             if (scene.integrator.type == integrate::IntegratorKind::Static)
                 summary.pieces_fixed = fix_free_pieces();
@@ -113,7 +116,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
                 summary.fragments_pinned = pin_free_fragments(report.changed_cells);
         }
     } catch (const std::exception& e) {
-        restore(before);
+        restore(before, false, !model_follows);
         summary = CutSummary { .status = CutSummary::Status::Failed,
             .reason = std::string("failed and was undone, the mesh is unchanged: ") + e.what(),
             .triangles_skipped = summary.triangles_skipped,
@@ -178,15 +181,18 @@ CutSummary Simulation::end_stroke() {
 
 void Simulation::Impl::check_model_growth() const {
     const double growth = scene.cutting.max_model_growth;
-    if (!model || !(growth > 0) || initial_nonzeros <= 0)
+    if (!model || !(growth > 0) || !(initial_element_entries > 0))
         return;
-    const Index nnz = model->num_nonzeros();
-    if (double(nnz) > growth * double(initial_nonzeros))
-        throw Error("cut",
-            "the cut model would hold " + std::to_string(nnz) + " stiffness nonzeros, over "
-                + "cutting.max_model_growth = " + std::to_string(growth) + " x the uncut model's "
-                + std::to_string(initial_nonzeros)
-                + " (sweeps this dense make cells that slow every later step)");
+    const double entries = element_entries(mesh);
+    if (entries > growth * initial_element_entries) {
+        char text[256];
+        std::snprintf(text, sizeof text,
+            "the cut mesh's element matrices would hold %.4g entries, %.2f x the uncut model's "
+            "(cutting.max_model_growth = %g): sweeps this dense make cells that slow every "
+            "later step",
+            entries, entries / initial_element_entries, growth);
+        throw Error("cut", text);
+    }
 }
 
 void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
@@ -298,7 +304,7 @@ std::unique_ptr<Simulation::Impl::Snapshot> Simulation::Impl::take_snapshot() {
     return snap; // the mesh: the cut pipeline's undo mirror (CutPipeline::undo)
 }
 
-void Simulation::Impl::restore(const Snapshot& snap, bool published) {
+void Simulation::Impl::restore(const Snapshot& snap, bool published, bool model_current) {
     if (!cutting)
         throw Error("cut", "the mesh before the cut is no longer known");
     // The cutters' adjacency and remembered sweeps refer to the failed edit: the undo forgets
@@ -318,7 +324,7 @@ void Simulation::Impl::restore(const Snapshot& snap, bool published) {
     if (dg) {
         dg = make_dg_part(scene, mesh); // the restored mesh's cells, in their old order
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
-    } else {
+    } else if (!model_current) {
         model->rebuild_topology();
         model->set_fixed_dofs(node_fixed_mask);
     }

@@ -79,8 +79,8 @@ struct Simulation::Impl {
     /// Simulation::blade_min_advance(): samples of a splitting stroke closer than this [m] are
     /// swept together (the server holds scalpel samples, the pipeline coarsens cut strips).
     double blade_min_advance() const;
-    /// Throws when the cut model's stiffness outgrew cutting.max_model_growth (the caller
-    /// undoes the cut).
+    /// Throws when the cut mesh's element matrices outgrew cutting.max_model_growth (the
+    /// caller undoes the cut; the model has not followed it yet).
     void check_model_growth() const;
     /// prepare_cutting() built `cutting` at load (its cost is the "cut" entry of build_parts)
     bool cutting_prepared = false;
@@ -110,7 +110,9 @@ struct Simulation::Impl {
     /// surface topology and its version come back too when nothing was published since the snapshot
     /// (`published` false: a failed cut changes nothing a client can see); otherwise the old
     /// topology gets a new version, so clients that saw the cut fetch it again.
-    void restore(const Snapshot& snap, bool published = false);
+    /// `model_current`: the model never followed the undone cut (it failed before the update),
+    /// so it still describes the restored mesh and is kept (no O(mesh) rebuild).
+    void restore(const Snapshot& snap, bool published = false, bool model_current = false);
     /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
     /// returns how many pieces it fixed.
     int fix_free_pieces();
@@ -138,8 +140,9 @@ struct Simulation::Impl {
     /// Cube root of the uncut mesh's mean cell volume [m]: the length the cut tolerances and the
     /// blade's minimum advance are relative to.
     double initial_cell_size = 0;
-    /// Stiffness nonzeros of the uncut model (cutting.max_model_growth)
-    Index initial_nonzeros = 0;
+    /// Entries of the uncut mesh's element matrices, sum of (3 nodes)^2 over the cells
+    /// (cutting.max_model_growth)
+    double initial_element_entries = 0;
     double body_volume = 0; ///< rest volume of the scene as built [m^3]
     /// Largest rest bounding-box diagonal of a cell of the uncut mesh [m]: how far a material
     /// point can be from its nearest node (pick()).

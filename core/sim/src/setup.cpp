@@ -220,4 +220,11 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     return o;
 }
 
+double element_entries(const mesh::Mesh& m) {
+    double entries = 0;
+    for (const mesh::Cell& c : m.cells)
+        entries += 9.0 * double(c.nodes.size()) * double(c.nodes.size());
+    return entries;
+}
+
 } // namespace polycut::sim

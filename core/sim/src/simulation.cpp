@@ -75,7 +75,7 @@ void Simulation::Impl::build() {
         model = std::make_unique<elasticity::ElasticModel>(
             mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
         clock.lap(build_parts, "model", true);
-        initial_nonzeros = model->num_nonzeros();
+        initial_element_entries = element_entries(mesh);
         integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
         check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
     }

@@ -44,8 +44,6 @@ public:
     Index num_nodes() const { return Index(m_mass.size()); }
     /// Number of free DOFs = size of the reduced system.
     Index num_free_dofs() const override { return m_num_free; }
-    /// Stored entries of the reduced stiffness matrix (its pattern; make_matrix()).
-    Index num_nonzeros() const { return Index(m_inner.size()); }
     /// Full DOF (3 node + axis) -> reduced DOF, or kNone when fixed (3#N).
     const std::vector<Index>& dof_map() const override { return m_dof_map; }
     /// Per-DOF fixed mask (3#N).

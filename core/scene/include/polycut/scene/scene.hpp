@@ -330,10 +330,10 @@ struct Cutting {
     /// cells the cuts of one tick may change (split or rewrite) before the remaining sweep
     /// triangles wait for the next tick (a count, so replays cut the same); 0: no limit
     Index max_cells_per_tick = 600;
-    /// The stiffness matrix of the cut model may hold at most this many times the nonzeros of
-    /// the uncut model's; a cut past it is undone and reported. Dense sweeps (a soup of
-    /// triangles) make cells of ~100 nodes whose dense blocks slow every later step. 0: no limit
-    double max_model_growth = 8;
+    /// The cells' element matrices (sum of (3 nodes)^2) may grow to at most this many times the
+    /// uncut mesh's; a cut past it is undone (before the model follows it) and reported. Dense
+    /// sweeps (a soup of triangles) make large cells that slow every later step. 0: no limit
+    double max_model_growth = 4;
     std::vector<Sweep> sweeps;
 };
 
