@@ -86,8 +86,8 @@ double changed_work(const detail::Editor& ed) {
 }
 } // namespace
 
-CutReport Cutter::cut(
-    std::span<const Triangle> rest_triangles, Index max_changed_cells, std::span<const char> may_stop) {
+CutReport Cutter::cut(std::span<const Triangle> rest_triangles, Index max_changed_cells,
+    std::span<const char> may_stop) {
     Stopwatch watch;
     m_impl->validate(rest_triangles);
     CutReport report;

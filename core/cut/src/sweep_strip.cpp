@@ -77,7 +77,6 @@ CoarseSweep coarsen_strips(std::span<const Triangle> tris, double min_advance, d
             out.may_stop.push_back(0);
             out.may_stop.push_back(1);
         }
-        out.merged += 2 * m - 2 * (kept.size() - 1);
         i = j;
     }
     return out;

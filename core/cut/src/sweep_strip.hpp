@@ -18,7 +18,6 @@ struct CoarseSweep {
     /// halves of a coarse quad (a call resumed at the quad's second half would re-sweep the
     /// input from there along other chords: cells cut twice by nearly coincident planes).
     std::vector<char> may_stop;
-    std::size_t merged = 0; ///< input triangles folded into coarser quads
 };
 
 /// Runs of triangle pairs in the scalpel's order, (a0, b0, a1), (b0, b1, a1), (a1, b1, a2), ...
