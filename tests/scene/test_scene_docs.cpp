@@ -114,6 +114,7 @@ std::map<std::string, Getter> getters() {
         = [](const Scene& s) { return num(s.solver.amg_background_solves); };
     g["solver/amg/background_serial"]
         = [](const Scene& s) { return boolean(s.solver.amg_background_serial); };
+    g["solver/amg/refresh_delay"] = [](const Scene& s) { return num(s.solver.amg_refresh_delay); };
     g["cutting/method"] = [](const Scene& s) { return name(to_string(s.cutting.method)); };
     g["cutting/snap_distance"] = [](const Scene& s) { return num(s.cutting.snap_distance); };
     g["cutting/sliver_volume"] = [](const Scene& s) { return num(s.cutting.sliver_volume); };

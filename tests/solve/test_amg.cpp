@@ -479,3 +479,51 @@ TEST(Amg, SolvesRunOnOneThreadWhileABackgroundSetUpRunsAndRepeatBitForBit) {
     EXPECT_EQ(r3.threads, std::vector<int>(8, 2));
     expect_bit_for_bit(r1, r2);
 }
+
+TEST(Amg, ASetUpAskedForAtTheEndOfAStrokeStartsRefreshDelaySolvesLater) {
+    // PcgSolver::request_refresh() (the end of a cutting stroke) after the hierarchy was carried
+    // over a cut: with AmgOptions::refresh_delay = 3 the background set-up starts at the 4th
+    // solve after the request (solve 5), runs on the worker with the solves on one thread
+    // (background_serial), and is installed background_solves = 2 solves later (solve 7); with
+    // refresh_delay = 0 it starts at the next solve (2) and is installed at solve 4. The lips of
+    // a fresh cut ring for ~15 ticks, and a set-up started then put those solves on one thread.
+    const BoxSystem s = box_system(6);
+    const double h = 0.01, beta = 0.01;
+    SparseMatrix A = (h * h + h * beta) * s.K;
+    A.diagonal() += s.mass;
+    const Vector b = random_vector(s.K.rows(), 9);
+    auto run = [&](int delay) {
+        PcgOptions o = amg_options(1e-8);
+        o.threads = 2;
+        o.refactor_iterations = 1000000; // only the request sets up
+        o.amg.background_solves = 2;
+        o.amg.refresh_delay = delay;
+        PcgSolver pcg(o);
+        std::vector<int> threads;
+        std::vector<bool> installed;
+        for (int k = 1; k <= 8; ++k) {
+            Vector x;
+            const PcgResult r = pcg.solve(A, b, x);
+            EXPECT_EQ(r.status, SolveStatus::Ok) << "solve " << k;
+            EXPECT_LE(Vector(A * x - b).norm(), 1e-8 * b.norm() * (1 + 1e-9)) << "solve " << k;
+            threads.push_back(pcg.threads());
+            installed.push_back(r.refactored);
+            if (k == 1) {
+                // a cut that kept every unknown (the identity), then the stroke ends
+                RowRemap same;
+                same.old_of.resize(std::size_t(A.rows()));
+                std::iota(same.old_of.begin(), same.old_of.end(), 0L);
+                EXPECT_TRUE(pcg.remap_preconditioner(same));
+                pcg.request_refresh();
+            }
+        }
+        return std::make_pair(threads, installed);
+    };
+    // after solve:                               1     2      3      4      5      6     7     8
+    const auto [t3, i3] = run(3);
+    EXPECT_EQ(t3, (std::vector<int> { 2, 2, 2, 2, 1, 1, 2, 2 }));
+    EXPECT_EQ(i3, (std::vector<bool> { true, false, false, false, false, false, true, false }));
+    const auto [t0, i0] = run(0);
+    EXPECT_EQ(t0, (std::vector<int> { 2, 1, 1, 2, 2, 2, 2, 2 }));
+    EXPECT_EQ(i0, (std::vector<bool> { true, false, false, true, false, false, false, false }));
+}

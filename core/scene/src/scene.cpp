@@ -313,6 +313,7 @@ Solver parse_solver(const json& j, const std::string& ptr) {
         s.amg_background_solves
             = int(a.integer("background_solves", s.amg_background_solves, 0, 1000));
         s.amg_background_serial = a.boolean("background_serial", s.amg_background_serial);
+        s.amg_refresh_delay = int(a.integer("refresh_delay", s.amg_refresh_delay, 0, 1000));
         a.finish();
     }
     r.finish();

@@ -214,6 +214,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.amg.node_blocks = sv.amg_node_blocks;
     o.solver.amg.background_solves = sv.amg_background_solves;
     o.solver.amg.background_serial = sv.amg_background_serial;
+    o.solver.amg.refresh_delay = sv.amg_refresh_delay;
     o.threads = it.threads;
     o.stiffness_every = it.stiffness_every;
     o.energy_guard = it.energy_guard;

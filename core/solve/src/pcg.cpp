@@ -60,6 +60,9 @@ struct PcgSolver::Impl {
     // cuts since the job started: replayed on its hierarchy at the hand-over
     std::vector<RowRemap> job_remaps;
     int remaps_since_setup = 0; ///< cuts the installed hierarchy was carried over
+    /// Solves left before a requested background set-up may start (request_refresh(),
+    /// AmgOptions::refresh_delay); a set-up the iteration count asks for meanwhile waits too.
+    int hold = 0;
     int threads = 1; ///< of the matrix passes now: options.threads, or 1 (follow_background)
 
     /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
@@ -339,8 +342,10 @@ struct PcgSolver::Impl {
             const bool due = missing
                 || (options.refactor_every > 0 && solves_since_refactor >= options.refactor_every)
                 || refactor_requested;
+            const bool scheduled
+                = options.refactor_every > 0 && solves_since_refactor >= options.refactor_every;
             if (due && !missing && options.amg.background_solves > 0) {
-                if (amg_handover < 0)
+                if (amg_handover < 0 && (hold == 0 || scheduled))
                     start_amg_job(A);
             } else if (due) {
                 if (const SolveStatus s = setup_amg(A); s != SolveStatus::Ok)
@@ -348,6 +353,8 @@ struct PcgSolver::Impl {
             }
             if (amg_handover > 0)
                 --amg_handover;
+            if (hold > 0)
+                --hold;
             follow_background();
         }
         if (use == Preconditioner::TwoLevel) {
@@ -406,6 +413,7 @@ void PcgSolver::reset() {
     m_impl->solves_since_refactor = 0;
     m_impl->refactor_requested = false;
     m_impl->fresh_iterations = -1;
+    m_impl->hold = 0;
     m_impl->installed = false;
     if (m_impl->background)
         m_impl->background->cancel();
@@ -539,8 +547,10 @@ bool PcgSolver::remap_preconditioner(const RowRemap& m) {
 void PcgSolver::request_refresh() {
     Impl& impl = *m_impl;
     if (impl.options.preconditioner == Preconditioner::Amg && impl.remaps_since_setup > 0
-        && impl.amg_handover < 0)
+        && impl.amg_handover < 0) {
         impl.refactor_requested = true;
+        impl.hold = std::max(impl.options.amg.refresh_delay, 0);
+    }
 }
 
 int PcgSolver::threads() const {

@@ -259,6 +259,8 @@ struct Solver {
     int amg_background_solves = 8;
     /// one thread for the step while a background set-up runs (solve::AmgOptions)
     bool amg_background_serial = solve::AmgOptions {}.background_serial;
+    /// solves the set-up asked for at the end of a cutting stroke waits (solve::AmgOptions)
+    int amg_refresh_delay = solve::AmgOptions {}.refresh_delay;
 };
 
 /// Selects nodes by rest position.
