@@ -13,11 +13,11 @@ void Integrator::ensure_topology(StepReport& report) {
         return;
     const std::uint64_t before = m_topology;
     m_topology = m_model->topology_version();
-    // swap, not assign: Eigen 3.4's SparseMatrix has no move assignment, and these two copies
-    // of the pattern were half of the step's topology update on the organ (perf, bench_cut)
-    SparseMatrix pattern = m_model->make_matrix();
-    m_K.swap(pattern);
-    m_A = m_K; // the one copy: the same pattern, zero values
+    // The new pattern in the matrices' own storage: fresh ones (and a copy of K for A) were
+    // half of the step's topology update on the organ, most of it page faults and zero fills
+    // (perf, bench_cut). Their values are written before use (assembly, scale_shift_multiply).
+    m_model->pattern_into(m_K);
+    m_model->pattern_into(m_A);
     // A cut that kept the node ids keeps the AMG hierarchy, carried over to the new DOF
     // numbering through the old dof map (issue 12 item 5: no blocking set-up per cut; the
     // lagged set-up rule sets up again when solves need it).

@@ -41,6 +41,10 @@ public:
     /// A reduced matrix (#free x #free, symmetric, full storage, every diagonal entry stored)
     /// with the model's sparsity pattern, all values zero.
     virtual SparseMatrix make_matrix() const = 0;
+    /// M takes the model's sparsity pattern (as make_matrix()), in its own storage where that
+    /// is large enough; its values are left unspecified (every user writes them all before
+    /// reading: assemble() zeroes K, solve::scale_shift_multiply() writes A).
+    virtual void pattern_into(SparseMatrix& M) const { M = make_matrix(); }
     /// Into K (reduced, from make_matrix(); may be null) the stiffness, into f_int (3#rows,
     /// resized; may be null) the elastic forces [N] at x. Corotated mode updates the cached
     /// cell rotations.
