@@ -284,6 +284,42 @@ TEST_P(Pipeline, CountsTheInvertedTetsAroundTheBlade) {
     }
 }
 
+TEST_P(Pipeline, TrianglesMappedThroughCrushedTissueAreSkippedAndCounted) {
+    // The same stroke through a block shrunk uniformly (an affine map, so the fit is exact): at
+    // 0.6 of its size each rest triangle is 1.7 times as long (2.8 times as large) as its world
+    // self and the block is cut as at rest; at a fifth, five times as long (beyond
+    // kMaxRestStretch = 4, what only a fold or a crush gives): every triangle is skipped and
+    // counted in `stretched`, and nothing changes.
+    const bool snap = GetParam();
+    for (double scale : { 0.6, 0.2 }) {
+        mesh::Mesh m = block(true, 6);
+        const mesh::Mesh uncut = m;
+        std::vector<Vec3> positions = m.rest;
+        for (Vec3& x : positions)
+            x *= scale;
+        std::vector<Triangle> sweep = stroke(4);
+        for (Triangle& t : sweep)
+            for (Vec3& x : t)
+                x *= scale;
+        CutPipeline p(m, uncut, options(snap));
+        bool changed = false;
+        const CutResult r = p.cut(sweep, positions, 0, [&] { changed = true; });
+        EXPECT_EQ(r.status, CutStatus::Applied) << "scale " << scale;
+        EXPECT_EQ(r.consumed, sweep.size()) << "scale " << scale;
+        if (scale == 0.6) {
+            EXPECT_EQ(r.stretched, 0u);
+            EXPECT_TRUE(changed);
+            EXPECT_NEAR(r.swept_area, 0.6, 1e-9); // 1 x 0.6 of the blade inside, at rest
+            expect_cut_invariants(m, uncut, snap);
+        } else {
+            EXPECT_EQ(r.stretched, sweep.size());
+            EXPECT_EQ(r.skipped, sweep.size());
+            EXPECT_FALSE(changed);
+            EXPECT_EQ(m.num_cells(), uncut.num_cells());
+        }
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cutters, Pipeline, ::testing::Values(false, true),
     [](const ::testing::TestParamInfo<bool>& param) {
         return param.param ? std::string("FaceSnapping") : std::string("CellSplitting");

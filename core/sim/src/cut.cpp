@@ -40,6 +40,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
     summary.triangles_deferred = int(result.deferred);
     summary.inverted_cells = int(result.inverted_cells);
     s.cut_inverted = std::max(s.cut_inverted, result.inverted_cells);
+    s.cut_stretched += result.stretched;
     if (result.status == cut::CutStatus::Rejected) {
         summary.status = CutSummary::Status::Rejected;
         summary.rejected_triangle = int(result.rejected_triangle);

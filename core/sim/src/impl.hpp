@@ -134,6 +134,8 @@ struct Simulation::Impl {
     double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
     /// Most inverted tets around one cut call since the last step (its report warns).
     std::size_t cut_inverted = 0;
+    /// Sweep triangles skipped since the last step as mapped through a fold (CutResult::stretched).
+    std::size_t cut_stretched = 0;
     /// Rest area swept by cuts that were undone: failed cuts and those a failed step took back
     /// [m^2]. Not restored by an undo: the blade swept it.
     double swept_area_undone = 0;

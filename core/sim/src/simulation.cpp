@@ -291,6 +291,14 @@ StepReport Simulation::step() {
               "follows the fold only approximately");
         s.cut_inverted = 0;
     }
+    if (s.cut_stretched > 0) {
+        r.warnings.push_back(std::to_string(s.cut_stretched)
+            + (s.cut_stretched == 1 ? " sweep triangle" : " sweep triangles")
+            + " not cut: mapped to rest space through folded or crushed tissue, the image came "
+              "out more than 4x longer or larger than the blade swept (docs/scenes.md "
+              "\"Completeness\")");
+        s.cut_stretched = 0;
+    }
     if (s.cut_undo)
         s.spare = std::move(s.cut_undo); // its buffers serve the next cut's undo copy
     if (s.cutting && !r.rolled_back)

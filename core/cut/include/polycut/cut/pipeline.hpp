@@ -64,6 +64,10 @@ struct CutResult {
     /// there: the world-to-rest map is not one-to-one, so the cut follows the fold only
     /// approximately; docs/scenes.md "Completeness"). 0 for a body that did not invert.
     std::size_t inverted_cells = 0;
+    /// Skipped triangles (counted in `skipped` too) whose rest image came out more than 4x
+    /// longer or larger than the triangle: mapped through folded or crushed tissue (pipeline.cpp
+    /// kMaxRestStretch).
+    std::size_t stretched = 0;
     /// Rejected: index of the offending input triangle, and its corner (-1 for the whole
     /// triangle); the server turns them into a JSON pointer.
     std::ptrdiff_t rejected_triangle = -1;
