@@ -83,6 +83,36 @@ TEST(ModelUpdate, IncrementalUpdateAfterACutEqualsARebuild) {
     expect_same_system(model, fresh, m, 3);
 }
 
+TEST(ModelUpdate, ACellThatCannotBeMadeThrowsWithTheModelAsItWas) {
+    // A cut whose piece the basis refuses is undone (sim::Simulation::settle_cut): the model
+    // must still be that of the mesh before the cut, so the undo costs no rebuild. Here the cut
+    // mesh's first changed cell is collapsed onto a point; update_cells() and rebuild_topology()
+    // both throw, and with the mesh put back the model equals one built afresh on it.
+    mesh::BoxGrid g;
+    g.hi = Vec3(0.03, 0.03, 0.02);
+    g.cells = { 3, 3, 2 };
+    mesh::Mesh m = mesh::hex_grid(g);
+    const mesh::Mesh before = m;
+    const elasticity::Material mat = tissue();
+    elasticity::ElasticModel model(m, mat, {}, fixed_for(m));
+    const auto topology = model.topology_version();
+    const auto cells = model.cell_version();
+    cut::Cutter cutter(m);
+    const cut::CutReport report = cutter.split_by_plane(Vec3(0.013, 0.0, 0.0), Vec3(1, 0.2, 0.1));
+    ASSERT_FALSE(report.changed_cells.empty());
+    const Index bad = report.changed_cells.front();
+    const Vec3 point = m.rest[std::size_t(m.cells[std::size_t(bad)].nodes.front())];
+    for (Index n : m.cells[std::size_t(bad)].nodes)
+        m.rest[std::size_t(n)] = point;
+    EXPECT_ANY_THROW(model.update_cells(report.changed_cells));
+    EXPECT_ANY_THROW(model.rebuild_topology());
+    EXPECT_EQ(model.topology_version(), topology);
+    EXPECT_EQ(model.cell_version(), cells);
+    m = before; // the undo
+    elasticity::ElasticModel fresh(m, mat, {}, fixed_for(m));
+    expect_same_system(model, fresh, m, 5);
+}
+
 TEST(ModelUpdate, CellsMergedAwayKeepTheSurvivorsDataAndEqualARebuild) {
     // A plane cutting the corner 1 mm off the cells around an interior node of a ~1 cm grid:
     // corner slivers of ~1e-4 of a cell, far above the node snapping distance, merged into

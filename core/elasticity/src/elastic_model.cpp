@@ -111,13 +111,14 @@ Eigen::Map<const MatX> ElasticModel::cell_stiffness(Index c) const {
     return { K.data(), K.rows(), K.cols() };
 }
 
-void ElasticModel::compute_cells(std::span<const Index> cells) {
-    // compute_cell() writes only its own cell's slots, so the cells run in parallel (the mean
+std::vector<ElasticModel::ComputedCell> ElasticModel::compute_detached(
+    std::span<const Index> cells) const {
+    // Each cell's data is made apart from the model, so the cells run in parallel (the mean
     // value integration of a cell-splitting cut's new cells was a quarter of its cost on the
-    // organ); the results do not depend on the thread count. The first failure in list order is
-    // thrown, as a serial loop would.
-    m_rest_extent2.resize(m_cells.size(), 0.0);
-    m_p1.resize(m_cells.size());
+    // organ) and a cell that cannot be made leaves the model as it was (a cut undone for it
+    // then costs no model rebuild). The results do not depend on the thread count; the first
+    // failure in list order is thrown, as a serial loop would.
+    std::vector<ComputedCell> out(cells.size());
     std::vector<std::exception_ptr> errors(cells.size());
     const long n = long(cells.size());
     // A P1 tet or a Q1 hex takes microseconds, a general polyhedron's mean value or harmonic
@@ -131,7 +132,7 @@ void ElasticModel::compute_cells(std::span<const Index> cells) {
 #pragma omp parallel for num_threads(m_threads) schedule(dynamic, chunk) if (parallel)
     for (long k = 0; k < n; ++k) {
         try {
-            compute_cell(cells[std::size_t(k)]);
+            compute_cell(cells[std::size_t(k)], out[std::size_t(k)]);
         } catch (...) {
             errors[std::size_t(k)] = std::current_exception();
         }
@@ -139,8 +140,18 @@ void ElasticModel::compute_cells(std::span<const Index> cells) {
     for (const std::exception_ptr& e : errors)
         if (e)
             std::rethrow_exception(e);
-    for (Index c : cells) {
-        const mesh::CellShape shape = m_mesh->cells[std::size_t(c)].shape;
+    return out;
+}
+
+void ElasticModel::commit_cells(std::span<const Index> cells, std::vector<ComputedCell>&& made) {
+    m_rest_extent2.resize(m_cells.size(), 0.0);
+    m_p1.resize(m_cells.size());
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+        const std::size_t c = std::size_t(cells[k]);
+        m_cells[c] = std::move(made[k].data);
+        m_p1[c] = made[k].p1;
+        m_rest_extent2[c] = made[k].extent2;
+        const mesh::CellShape shape = m_mesh->cells[c].shape;
         (shape == mesh::CellShape::Tet          ? m_bases_built.p1
                 : shape == mesh::CellShape::Hex ? m_bases_built.q1
                                                 : m_bases_built.polyhedral)
@@ -148,8 +159,8 @@ void ElasticModel::compute_cells(std::span<const Index> cells) {
     }
 }
 
-void ElasticModel::compute_cell(Index c) {
-    CellData& cd = m_cells[std::size_t(c)];
+void ElasticModel::compute_cell(Index c, ComputedCell& out) const {
+    CellData& cd = out.data;
     const mesh::Cell& cell = m_mesh->cells[std::size_t(c)];
     cd.nodes = cell.nodes;
     cd.integration = basis::integrate_cell(*m_mesh, c, m_options);
@@ -169,14 +180,13 @@ void ElasticModel::compute_cell(Index c) {
     double extent2 = 0;
     for (const Vec3& p : X)
         extent2 = std::max(extent2, (p - X.front()).squaredNorm());
-    m_rest_extent2[std::size_t(c)] = extent2;
+    out.extent2 = extent2;
     cd.rest_local.resize(Index(X.size()), 3);
     for (std::size_t i = 0; i < X.size(); ++i)
         cd.rest_local.row(Index(i)) = (X[i] - Xc).transpose();
     if (cell.shape == mesh::CellShape::Polyhedron && m_options.stabilization > 0)
         stabilize_non_affine(cd.stiffness, cd.rest_local, cd.fit, m_options.stabilization);
-    P1Cell& t = m_p1[std::size_t(c)];
-    t = P1Cell {};
+    P1Cell& t = out.p1;
     const basis::CellIntegration& ci = cd.integration;
     if (cd.nodes.size() == 4 && ci.gradients.size() == 1 && ci.gradients[0].rows() == 4) {
         t.valid = true;
@@ -195,18 +205,19 @@ void ElasticModel::compute_cell(Index c) {
 }
 
 void ElasticModel::rebuild_topology(std::vector<Index> node_map) {
+    std::vector<Index> all(std::size_t(m_mesh->num_cells()));
+    std::iota(all.begin(), all.end(), Index(0));
+    std::vector<ComputedCell> made = compute_detached(all); // may throw: nothing changed yet
     m_previous_renumber_base = m_renumber_base;
     m_renumber_base = m_topology_version + 1; // the version rebuild_pattern() is about to make
     m_node_map = std::move(node_map);
     m_partition_nodes = 0; // node ids renumbered: the ranges start afresh
     const Index n = m_mesh->num_nodes();
     m_fixed.resize(3 * std::size_t(n), 0);
-    m_cells.assign(std::size_t(m_mesh->num_cells()), CellData {});
+    m_cells.assign(all.size(), CellData {});
     m_rotation.assign(m_cells.size(), Mat3::Identity());
     m_p1.assign(m_cells.size(), P1Cell {});
-    std::vector<Index> all(m_cells.size());
-    std::iota(all.begin(), all.end(), Index(0));
-    compute_cells(all);
+    commit_cells(all, std::move(made));
     rebuild_pattern();
     rebuild_mass();
 }
@@ -219,7 +230,33 @@ void ElasticModel::update_cells(
         rebuild_topology(); // nodes renumbered: nothing cached can be matched up any more
         return;
     }
-    std::vector<char> kept; // with a cell map: the cells whose data moved to their new id
+    if (cell_map.empty() && n_cells < m_cells.size()) {
+        rebuild_topology(); // cells removed, and no map to match them up
+        return;
+    }
+    for (Index c : changed)
+        if (c < 0 || std::size_t(c) >= n_cells)
+            throw InputError("changed", "cell id out of range");
+    // Only the listed cells and those no old cell moves to (appended, or with a cell map not
+    // kept) get a new basis, quadrature and Ke, once (000 sec. 5.1). They are made first, apart
+    // from the model: a cell that cannot be made (a cut's degenerate piece) throws with the
+    // model as it was, so the undone cut needs no rebuild of the whole model (~40 ms and a
+    // foreground AMG set-up of ~60 ms on the 5k organ).
+    std::vector<char> kept; // with a cell map: the cells whose data moves to their new id
+    if (!cell_map.empty()) {
+        kept.assign(n_cells, 0);
+        for (std::size_t c = 0; c < std::min(cell_map.size(), m_cells.size()); ++c)
+            if (const Index to = cell_map[c]; to != kNone && std::size_t(to) < n_cells)
+                kept[std::size_t(to)] = 1;
+    }
+    const std::size_t old_cells = cell_map.empty() ? m_cells.size() : n_cells;
+    std::vector<Index> todo(changed);
+    for (std::size_t c = cell_map.empty() ? old_cells : 0; c < n_cells; ++c)
+        if (cell_map.empty() || !kept[c])
+            todo.push_back(Index(c));
+    std::sort(todo.begin(), todo.end());
+    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    std::vector<ComputedCell> made = compute_detached(todo);
     // For the pattern: nodes whose set of cells changes, and each cell's id at the last build
     // when it is the same cell.
     std::vector<char> affected(n_dofs / 3, 0);
@@ -237,7 +274,6 @@ void ElasticModel::update_cells(
         std::vector<Mat3> rotation(n_cells, Mat3::Identity());
         std::vector<P1Cell> p1(n_cells);
         std::vector<double> extent2(n_cells, 0.0);
-        kept.assign(n_cells, 0);
         for (std::size_t c = 0; c < std::min(cell_map.size(), m_cells.size()); ++c) {
             const Index to = cell_map[c];
             if (to == kNone || std::size_t(to) >= n_cells) {
@@ -249,36 +285,21 @@ void ElasticModel::update_cells(
             rotation[std::size_t(to)] = m_rotation[c];
             p1[std::size_t(to)] = m_p1[c];
             extent2[std::size_t(to)] = c < m_rest_extent2.size() ? m_rest_extent2[c] : 0.0;
-            kept[std::size_t(to)] = 1;
         }
         m_cells = std::move(cells);
         m_rotation = std::move(rotation);
         m_p1 = std::move(p1);
         m_rest_extent2 = std::move(extent2);
-    } else if (n_cells < m_cells.size()) {
-        rebuild_topology(); // cells removed, and no map to match them up
-        return;
     }
-    const std::size_t old_cells = cell_map.empty() ? m_cells.size() : n_cells;
     if (cell_map.empty())
         std::iota(old_cell.begin(), old_cell.begin() + std::ptrdiff_t(std::min(old_cells, n_cells)),
             Index(0));
-    for (Index c : changed)
-        if (c < 0 || std::size_t(c) >= n_cells)
-            throw InputError("changed", "cell id out of range");
-    // Only the listed cells and the appended ones get a new basis, quadrature and Ke, once
-    // (000 sec. 5.1); appended nodes are free until set_fixed_dofs() says otherwise.
+    // Appended nodes are free until set_fixed_dofs() says otherwise.
     bool topology = n_cells != old_cells || n_dofs != m_fixed.size() || !cell_map.empty();
     m_fixed.resize(n_dofs, 0);
     m_cells.resize(n_cells);
     m_rotation.resize(n_cells, Mat3::Identity());
     m_p1.resize(n_cells);
-    std::vector<Index> todo(changed);
-    for (std::size_t c = cell_map.empty() ? old_cells : 0; c < n_cells; ++c)
-        if (cell_map.empty() || !kept[c])
-            todo.push_back(Index(c));
-    std::sort(todo.begin(), todo.end());
-    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
     for (Index c : todo) {
         const std::size_t k = std::size_t(c);
         topology |= m_cells[k].nodes != m_mesh->cells[k].nodes;
@@ -293,7 +314,7 @@ void ElasticModel::update_cells(
                 ? m_rotation[std::size_t(parent)]
                 : Mat3::Identity();
     }
-    compute_cells(todo);
+    commit_cells(todo, std::move(made));
     if (topology)
         build_pattern(affected, std::move(old_cell));
     update_mass(affected);

@@ -96,7 +96,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
     // cell the basis cannot handle), the mesh and the state go back to what they were and the
     // error is reported; the simulation keeps running on the uncut mesh.
     const cut::CutReport& report = result.report;
-    bool model_follows = false; // the model was updated to the cut mesh (an undo rebuilds it)
+    cut_model_updated = false; // the model follows the cut mesh (an undo rebuilds it)
     try {
         if (result.status == cut::CutStatus::Failed)
             throw Error("cut", result.reason);
@@ -108,7 +108,6 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
         summary.topology_changed = report.topology_changed;
         if (report.topology_changed) {
             check_model_growth(); // on the cut mesh, before the model follows it
-            model_follows = true;
             resize_state_after_cut(report);
             check_cut_cells(report.changed_cells);
             if (scene.integrator.type == integrate::IntegratorKind::Static)
@@ -117,7 +116,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
                 summary.fragments_pinned = pin_free_fragments(report.changed_cells);
         }
     } catch (const std::exception& e) {
-        restore(before, false, !model_follows);
+        restore(before, false, !cut_model_updated);
         summary = CutSummary { .status = CutSummary::Status::Failed,
             .reason = std::string("failed and was undone, the mesh is unchanged: ") + e.what(),
             .triangles_skipped = summary.triangles_skipped,
@@ -198,6 +197,7 @@ void Simulation::Impl::check_model_growth() const {
 
 void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     if (dg) {
+        cut_model_updated = true; // made anew: an undo makes it again too
         // DG (dg_part.hpp): a model on the cut mesh, every cell's polynomial carried over.
         dg = dg_after_cut(*dg, scene, mesh, report, state.x, state.v);
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
@@ -281,10 +281,13 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
         for (const auto& [node, old_rest] : report.moved_nodes)
             state.x.row(node) += (mesh.rest[std::size_t(node)] - old_rest).transpose();
     // Renumbered nodes: a full rebuild. Cells merged away (cell_map) keep the survivors' data.
+    // Both leave the model as it was when a cell of the cut mesh cannot be made (MeshError):
+    // the undo then needs no rebuild.
     if (!report.node_map.empty())
         model->rebuild_topology(report.node_map); // the solver's hierarchy follows the map
     else
         model->update_cells(report.changed_cells, report.cell_map);
+    cut_model_updated = true;
     model->set_fixed_dofs(node_fixed_mask);
     static_solved = false;
     sync_positions();

@@ -134,6 +134,9 @@ struct Simulation::Impl {
     double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
     /// Most inverted tets around one cut call since the last step (its report warns).
     std::size_t cut_inverted = 0;
+    /// The model was updated to the cut mesh of the cut being settled (settle_cut): its undo
+    /// must rebuild the model; false when the update refused a cell before changing anything.
+    bool cut_model_updated = false;
     /// Sweep triangles skipped since the last step as mapped through a fold (CutResult::stretched).
     std::size_t cut_stretched = 0;
     /// Rest area swept by cuts that were undone: failed cuts and those a failed step took back

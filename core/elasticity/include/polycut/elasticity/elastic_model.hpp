@@ -120,7 +120,9 @@ public:
     /// are rebuilt when a cell's node list changed or cells were added/removed. With a
     /// `cell_map` (old cell id -> new id, kNone for a cell removed: a cut that merged slivers
     /// away), the surviving cells keep their data under their new ids and only the changed and
-    /// the new ones are recomputed; node ids must not have changed.
+    /// the new ones are recomputed; node ids must not have changed. A cell whose data cannot be
+    /// made (MeshError) is thrown before anything changes: the model stays that of the mesh
+    /// before the edit (so does rebuild_topology()).
     void update_cells(const std::vector<Index>& changed, const std::vector<Index>& cell_map = {});
     /// Recomputes everything from the mesh (new nodes are free; existing DOF masks are kept).
     /// node_map: the renumbering that made the rebuild necessary (old node id -> new id, kNone
@@ -176,9 +178,18 @@ private:
         double c0[3][3] = {}; ///< sum_j (X_j - X_c) g_j^T (the identity up to round-off)
         double volume = 0; ///< quadrature weight [m^3]
     };
-    void compute_cell(Index c);
-    /// compute_cell() for each listed cell, in parallel with the model's threads.
-    void compute_cells(std::span<const Index> cells);
+    /// What compute_cell() makes of one cell, apart from the model.
+    struct ComputedCell {
+        CellData data;
+        P1Cell p1;
+        double extent2 = 0; ///< squared rest extent [m^2]
+    };
+    void compute_cell(Index c, ComputedCell& out) const;
+    /// compute_cell() for each listed cell, in parallel with the model's threads; throws the
+    /// first failure in list order, having changed nothing.
+    std::vector<ComputedCell> compute_detached(std::span<const Index> cells) const;
+    /// Puts what compute_detached() made into the listed cells' slots.
+    void commit_cells(std::span<const Index> cells, std::vector<ComputedCell>&& made);
     void rebuild_mass();
     /// rebuild_mass() for the nodes marked in `affected` (#nodes) only: their masses are summed
     /// again over their cells, in the order rebuild_mass() takes, so the result is the same to
