@@ -480,28 +480,33 @@ TEST(Amg, SolvesRunOnOneThreadWhileABackgroundSetUpRunsAndRepeatBitForBit) {
     expect_bit_for_bit(r1, r2);
 }
 
-TEST(Amg, ASetUpAskedForAtTheEndOfAStrokeStartsRefreshDelaySolvesLater) {
+TEST(Amg, ASetUpAskedForStartsRefreshDelaySolvesAfterTheLastCut) {
     // PcgSolver::request_refresh() (the end of a cutting stroke) after the hierarchy was carried
-    // over a cut: with AmgOptions::refresh_delay = 3 the background set-up starts at the 4th
-    // solve after the request (solve 5), runs on the worker with the solves on one thread
-    // (background_serial), and is installed background_solves = 2 solves later (solve 7); with
-    // refresh_delay = 0 it starts at the next solve (2) and is installed at solve 4. The lips of
-    // a fresh cut ring for ~15 ticks, and a set-up started then put those solves on one thread.
+    // over a cut: with AmgOptions::refresh_delay = 3 the background set-up starts 3 solves after
+    // that cut (solve 5), runs on the worker with the solves on one thread (background_serial),
+    // and is installed background_solves = 2 solves later (solve 7); another cut meanwhile
+    // (after solve 3) holds it until solve 7 (installed at 9); with refresh_delay = 0 it starts
+    // at the next solve (2) and is installed at solve 4. The lips of a fresh cut ring for ~15
+    // ticks, and a set-up started then, or during the next stroke, put those solves on one
+    // thread.
     const BoxSystem s = box_system(6);
     const double h = 0.01, beta = 0.01;
     SparseMatrix A = (h * h + h * beta) * s.K;
     A.diagonal() += s.mass;
     const Vector b = random_vector(s.K.rows(), 9);
-    auto run = [&](int delay) {
+    auto run = [&](int delay, bool second_cut) {
         PcgOptions o = amg_options(1e-8);
         o.threads = 2;
         o.refactor_iterations = 1000000; // only the request sets up
         o.amg.background_solves = 2;
         o.amg.refresh_delay = delay;
         PcgSolver pcg(o);
+        RowRemap same; // a cut that kept every unknown (the identity)
+        same.old_of.resize(std::size_t(A.rows()));
+        std::iota(same.old_of.begin(), same.old_of.end(), 0L);
         std::vector<int> threads;
         std::vector<bool> installed;
-        for (int k = 1; k <= 8; ++k) {
+        for (int k = 1; k <= 10; ++k) {
             Vector x;
             const PcgResult r = pcg.solve(A, b, x);
             EXPECT_EQ(r.status, SolveStatus::Ok) << "solve " << k;
@@ -509,21 +514,26 @@ TEST(Amg, ASetUpAskedForAtTheEndOfAStrokeStartsRefreshDelaySolvesLater) {
             threads.push_back(pcg.threads());
             installed.push_back(r.refactored);
             if (k == 1) {
-                // a cut that kept every unknown (the identity), then the stroke ends
-                RowRemap same;
-                same.old_of.resize(std::size_t(A.rows()));
-                std::iota(same.old_of.begin(), same.old_of.end(), 0L);
                 EXPECT_TRUE(pcg.remap_preconditioner(same));
-                pcg.request_refresh();
+                pcg.request_refresh(); // the stroke ends
+            }
+            if (k == 3 && second_cut) {
+                EXPECT_TRUE(pcg.remap_preconditioner(same));
             }
         }
         return std::make_pair(threads, installed);
     };
-    // after solve:                               1     2      3      4      5      6     7     8
-    const auto [t3, i3] = run(3);
-    EXPECT_EQ(t3, (std::vector<int> { 2, 2, 2, 2, 1, 1, 2, 2 }));
-    EXPECT_EQ(i3, (std::vector<bool> { true, false, false, false, false, false, true, false }));
-    const auto [t0, i0] = run(0);
-    EXPECT_EQ(t0, (std::vector<int> { 2, 1, 1, 2, 2, 2, 2, 2 }));
-    EXPECT_EQ(i0, (std::vector<bool> { true, false, false, true, false, false, false, false }));
+    using I = std::vector<int>;
+    using B = std::vector<bool>;
+    const bool T = true, F = false;
+    // after solve:                  1  2  3  4  5  6  7  8  9  10
+    const auto [t3, i3] = run(3, false);
+    EXPECT_EQ(t3, (I { 2, 2, 2, 2, 1, 1, 2, 2, 2, 2 }));
+    EXPECT_EQ(i3, (B { T, F, F, F, F, F, T, F, F, F }));
+    const auto [tc, ic] = run(3, true);
+    EXPECT_EQ(tc, (I { 2, 2, 2, 2, 2, 2, 1, 1, 2, 2 }));
+    EXPECT_EQ(ic, (B { T, F, F, F, F, F, F, F, T, F }));
+    const auto [t0, i0] = run(0, false);
+    EXPECT_EQ(t0, (I { 2, 1, 1, 2, 2, 2, 2, 2, 2, 2 }));
+    EXPECT_EQ(i0, (B { T, F, F, T, F, F, F, F, F, F }));
 }

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -60,9 +61,9 @@ struct PcgSolver::Impl {
     // cuts since the job started: replayed on its hierarchy at the hand-over
     std::vector<RowRemap> job_remaps;
     int remaps_since_setup = 0; ///< cuts the installed hierarchy was carried over
-    /// Solves left before a requested background set-up may start (request_refresh(),
-    /// AmgOptions::refresh_delay); a set-up the iteration count asks for meanwhile waits too.
-    int hold = 0;
+    /// Solves since the hierarchy was last carried over a cut (remap_preconditioner): a
+    /// requested background set-up starts only once this reaches AmgOptions::refresh_delay.
+    int since_remap = std::numeric_limits<int>::max();
     int threads = 1; ///< of the matrix passes now: options.threads, or 1 (follow_background)
 
     /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
@@ -345,7 +346,7 @@ struct PcgSolver::Impl {
             const bool scheduled
                 = options.refactor_every > 0 && solves_since_refactor >= options.refactor_every;
             if (due && !missing && options.amg.background_solves > 0) {
-                if (amg_handover < 0 && (hold == 0 || scheduled))
+                if (amg_handover < 0 && (since_remap >= options.amg.refresh_delay || scheduled))
                     start_amg_job(A);
             } else if (due) {
                 if (const SolveStatus s = setup_amg(A); s != SolveStatus::Ok)
@@ -353,8 +354,8 @@ struct PcgSolver::Impl {
             }
             if (amg_handover > 0)
                 --amg_handover;
-            if (hold > 0)
-                --hold;
+            if (since_remap < std::numeric_limits<int>::max())
+                ++since_remap;
             follow_background();
         }
         if (use == Preconditioner::TwoLevel) {
@@ -413,7 +414,7 @@ void PcgSolver::reset() {
     m_impl->solves_since_refactor = 0;
     m_impl->refactor_requested = false;
     m_impl->fresh_iterations = -1;
-    m_impl->hold = 0;
+    m_impl->since_remap = std::numeric_limits<int>::max();
     m_impl->installed = false;
     if (m_impl->background)
         m_impl->background->cancel();
@@ -539,6 +540,7 @@ bool PcgSolver::remap_preconditioner(const RowRemap& m) {
     if (impl.options.preconditioner != Preconditioner::Amg || !impl.amg.remap(m))
         return false;
     ++impl.remaps_since_setup;
+    impl.since_remap = 0;
     if (impl.amg_handover >= 0)
         impl.job_remaps.push_back(m);
     return true;
@@ -549,7 +551,6 @@ void PcgSolver::request_refresh() {
     if (impl.options.preconditioner == Preconditioner::Amg && impl.remaps_since_setup > 0
         && impl.amg_handover < 0) {
         impl.refactor_requested = true;
-        impl.hold = std::max(impl.options.amg.refresh_delay, 0);
     }
 }
 

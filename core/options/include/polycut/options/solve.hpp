@@ -72,14 +72,15 @@ struct AmgOptions {
     /// 80 ms). The switches happen at fixed solves (the start and the hand-over), so replays
     /// stay deterministic.
     bool background_serial = true;
-    /// The set-up that the end of a cutting stroke asks for (PcgSolver::request_refresh) starts
-    /// on the worker only this many solves later, and one the iteration count asks for in
-    /// between waits with it. Right after a stroke the lips of the cut ring: on the 5k organ the
-    /// solves need 5-14 iterations for ~15 ticks whatever the hierarchy (a fresh one trims the
-    /// peak from 12 to 9), and a set-up started then put exactly those solves on one thread
-    /// (background_serial): 35-55 ms steps, the worst ticks of a split stroke, against 17-28 ms
-    /// on two threads. Started later it runs beside the 1-iteration steps of a body at rest.
-    /// Counted in solves, so replays stay deterministic. 0: start at once.
+    /// A set-up that is asked for (the end of a cutting stroke, PcgSolver::request_refresh, or a
+    /// solve that needed many iterations) starts on the worker only once this many solves have
+    /// passed since the last cut that carried the hierarchy over: no set-up while a stroke cuts
+    /// or its lips ring. Right after a stroke the solves need 5-14 iterations for ~15 ticks on
+    /// the 5k organ whatever the hierarchy (a fresh one trims the peak from 12 to 9), and a
+    /// set-up started then, or during the next stroke, put exactly those solves on one thread
+    /// (background_serial): 35-55 ms steps, the worst ticks of a split stroke, against 17-31 ms
+    /// on two threads. Counted in solves, so replays stay deterministic; a set-up on the
+    /// refactor_every schedule is not held. 0: start at once.
     int refresh_delay = 20;
 };
 

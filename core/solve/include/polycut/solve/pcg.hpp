@@ -108,8 +108,9 @@ public:
     /// like a set-up the iteration count asks for). The end of a stroke asks for it: the carried
     /// coarse operators still couple the lips, and as the cut opens the solves grew from ~5 to
     /// 20-30 iterations on the 5k organ. A background set-up starts AmgOptions::refresh_delay
-    /// solves later (the ringing lips right after a stroke need many iterations whatever the
-    /// hierarchy, and a set-up would put those solves on one thread). No-op otherwise.
+    /// solves after the last cut (the ringing lips right after a stroke need many iterations
+    /// whatever the hierarchy, and a set-up would put those solves on one thread). No-op
+    /// otherwise.
     void request_refresh();
     /// Solves A x = b from the initial guess x. A: symmetric positive definite, full storage.
     /// x: initial guess, replaced by zero if its size differs from A's or it is not finite;
