@@ -94,14 +94,6 @@ constexpr double kEdgeSnap = 0.05;
 // Below this area (relative to L^2, L the tissue's diagonal) or altitude (relative to L) a
 // triangle cuts nothing; the cutters reject such rest triangles, so they are skipped here first.
 constexpr double kMinSweepArea = 2 * CutOptions {}.min_area;
-// A mapped triangle whose rest image is longer (longest edge) or larger (area) than this many
-// times its world self went through tissue that is folded or crushed beyond what the map can
-// follow: it is skipped and reported (CutResult::stretched). A sagging, grabbed or cut organ
-// maps its sweep within 0.82-1.22 (area) and 1.05 (edge); on an organ pressed into folds the
-// joint fit of successive samples jumped, rest triangles came out up to 33x longer and 1,900x
-// larger, the face-snapped cut covered 3.3x the swept area and single calls took up to 0.5 s
-// searching the cells under them.
-constexpr double kMaxRestStretch = 4.0;
 // A triangle whose shape quality is below this is not a triangle (collinear corners): rejected.
 constexpr double kMinQuality = 1e-6;
 // Corners farther than this many tissue diagonals from the tissue are rejected.

@@ -295,8 +295,9 @@ StepReport Simulation::step() {
         r.warnings.push_back(std::to_string(s.cut_stretched)
             + (s.cut_stretched == 1 ? " sweep triangle" : " sweep triangles")
             + " not cut: mapped to rest space through folded or crushed tissue, the image came "
-              "out more than 4x longer or larger than the blade swept (docs/scenes.md "
-              "\"Completeness\")");
+              "out more than "
+            + std::to_string(int(cut::kMaxRestStretch))
+            + "x longer or larger than the blade swept (docs/scenes.md \"Completeness\")");
         s.cut_stretched = 0;
     }
     if (s.cut_undo)

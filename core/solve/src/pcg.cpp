@@ -340,11 +340,9 @@ struct PcgSolver::Impl {
             if (amg_handover == 0)
                 finish_amg_job(A);
             const bool missing = amg.size() != A.rows();
-            const bool due = missing
-                || (options.refactor_every > 0 && solves_since_refactor >= options.refactor_every)
-                || refactor_requested;
             const bool scheduled
                 = options.refactor_every > 0 && solves_since_refactor >= options.refactor_every;
+            const bool due = missing || scheduled || refactor_requested;
             if (due && !missing && options.amg.background_solves > 0) {
                 if (amg_handover < 0 && (since_remap >= options.amg.refresh_delay || scheduled))
                     start_amg_job(A);
@@ -549,9 +547,8 @@ bool PcgSolver::remap_preconditioner(const RowRemap& m) {
 void PcgSolver::request_refresh() {
     Impl& impl = *m_impl;
     if (impl.options.preconditioner == Preconditioner::Amg && impl.remaps_since_setup > 0
-        && impl.amg_handover < 0) {
+        && impl.amg_handover < 0)
         impl.refactor_requested = true;
-    }
 }
 
 int PcgSolver::threads() const {

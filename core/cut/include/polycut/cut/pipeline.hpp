@@ -40,6 +40,15 @@ struct PipelineOptions {
     double strip_min_advance = 0;
 };
 
+/// A mapped sweep triangle whose rest image is longer (longest edge) or larger (area) than this
+/// many times its world self went through tissue that is folded or crushed beyond what the map
+/// can follow: it is skipped and reported (CutResult::stretched). A sagging, grabbed or cut
+/// organ maps its sweep within 0.82-1.22 (area) and 1.05 (edge); on an organ pressed into folds
+/// the joint fit of successive samples jumped, rest triangles came out up to 33x longer and
+/// 1,900x larger, the face-snapped cut covered 3.3x the swept area and single calls took up to
+/// 0.5 s searching the cells under them (docs/decisions/0067).
+inline constexpr double kMaxRestStretch = 4.0;
+
 /// Outcome of a pipeline call.
 enum class CutStatus {
     Applied, ///< every triangle was cut, skipped or missed the tissue
@@ -64,9 +73,9 @@ struct CutResult {
     /// there: the world-to-rest map is not one-to-one, so the cut follows the fold only
     /// approximately; docs/scenes.md "Completeness"). 0 for a body that did not invert.
     std::size_t inverted_cells = 0;
-    /// Skipped triangles (counted in `skipped` too) whose rest image came out more than 4x
-    /// longer or larger than the triangle: mapped through folded or crushed tissue (pipeline.cpp
-    /// kMaxRestStretch).
+    /// Skipped triangles (counted in `skipped` too) whose rest image came out more than
+    /// kMaxRestStretch times longer or larger than the triangle: mapped through folded or
+    /// crushed tissue.
     std::size_t stretched = 0;
     /// Rejected: index of the offending input triangle, and its corner (-1 for the whole
     /// triangle); the server turns them into a JSON pointer.

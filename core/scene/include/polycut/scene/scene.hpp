@@ -259,7 +259,7 @@ struct Solver {
     int amg_background_solves = 8;
     /// one thread for the step while a background set-up runs (solve::AmgOptions)
     bool amg_background_serial = solve::AmgOptions {}.background_serial;
-    /// solves the set-up asked for at the end of a cutting stroke waits (solve::AmgOptions)
+    /// solves after the last cut before a requested set-up starts (solve::AmgOptions)
     int amg_refresh_delay = solve::AmgOptions {}.refresh_delay;
 };
 
