@@ -122,6 +122,15 @@ TEST(Scene, SolverWarmStartParses) {
     EXPECT_EQ(s.solver.preconditioner, Preconditioner::Amg);
     EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"warm_start": "linear"})")),
         "/solver/warm_start");
+    EXPECT_EQ(s.solver.start_vectors, 4);
+    const Scene p = parse_scene(
+        with(loads, loads + R"(, "solver": {"warm_start": "projected", "start_vectors": 6})"));
+    EXPECT_EQ(p.solver.warm_start, WarmStart::Projected);
+    EXPECT_EQ(p.solver.start_vectors, 6);
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"start_vectors": 0})")),
+        "/solver/start_vectors");
+    EXPECT_EQ(error_pointer(with(loads, loads + R"(, "solver": {"start_vectors": 33})")),
+        "/solver/start_vectors");
 }
 
 TEST(Scene, ThreadsAndAmgOptionsParse) {

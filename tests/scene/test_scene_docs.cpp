@@ -99,6 +99,7 @@ std::map<std::string, Getter> getters() {
     g["solver/refactor_iterations"]
         = [](const Scene& s) { return num(s.solver.refactor_iterations); };
     g["solver/warm_start"] = [](const Scene& s) { return name(to_string(s.solver.warm_start)); };
+    g["solver/start_vectors"] = [](const Scene& s) { return num(s.solver.start_vectors); };
     g["solver/amg/strong_threshold"]
         = [](const Scene& s) { return num(s.solver.amg_strong_threshold); };
     g["solver/amg/aggressive_levels"]

@@ -526,6 +526,7 @@ StepReport Integrator::step(State& s) {
             report.rolled_back = true;
             m_dv.setZero(m_model->num_free_dofs()); // a bad warm start must not persist
             m_dv_prev.resize(0);
+            m_solver.forget_solutions();
             m_stiffness_age = -1; // nor a stiffness from the failed step
         }
     } catch (const std::exception& e) {
@@ -535,6 +536,7 @@ StepReport Integrator::step(State& s) {
             s.v = m_backup.v;
             s.time = m_backup.time;
         }
+        m_solver.forget_solutions();
         report.rolled_back = true;
     }
     report.step_ms = sw.ms();

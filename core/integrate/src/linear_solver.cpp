@@ -11,6 +11,7 @@ solve::PcgOptions pcg_options(const SolverOptions& o) {
     p.background_refactor = o.background_refactor;
     p.amg = o.amg;
     p.threads = o.threads;
+    p.start_vectors = o.start_vectors;
     switch (o.kind) {
     case LinearSolverKind::PcgBlockJacobi:
         p.preconditioner = solve::Preconditioner::BlockJacobi3;

@@ -50,8 +50,8 @@ inline constexpr Name<Preconditioner> kPreconditioner[]
           { "cell_block_jacobi", Preconditioner::CellBlockJacobi },
           { "lagged_cholesky", Preconditioner::LaggedCholesky }, { "amg", Preconditioner::Amg },
           { "two_level", Preconditioner::TwoLevel } };
-inline constexpr Name<WarmStart> kWarmStart[]
-    = { { "previous", WarmStart::Previous }, { "extrapolated", WarmStart::Extrapolated } };
+inline constexpr Name<WarmStart> kWarmStart[] = { { "previous", WarmStart::Previous },
+    { "extrapolated", WarmStart::Extrapolated }, { "projected", WarmStart::Projected } };
 inline constexpr Name<Distribution> kDistribution[]
     = { { "area", Distribution::Area }, { "uniform", Distribution::Uniform } };
 inline constexpr Name<CutMethod> kCutMethod[]

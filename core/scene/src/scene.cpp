@@ -300,6 +300,7 @@ Solver parse_solver(const json& j, const std::string& ptr) {
     s.refactor_iterations
         = int(r.integer("refactor_iterations", s.refactor_iterations, 0, 1000000));
     s.warm_start = r.choice("warm_start", s.warm_start, kWarmStart);
+    s.start_vectors = int(r.integer("start_vectors", s.start_vectors, 1, 32));
     if (r.has("amg")) {
         ObjectReader a(r.get("amg"), r.child("amg"));
         s.amg_strong_threshold = a.number("strong_threshold", s.amg_strong_threshold, 0, 1, true);

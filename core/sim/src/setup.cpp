@@ -205,7 +205,10 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.max_iterations = sv.max_iterations;
     o.solver.refactor_every = sv.refactor_every;
     o.solver.refactor_iterations = sv.refactor_iterations;
-    o.extrapolate_warm_start = sv.warm_start == scene::WarmStart::Extrapolated;
+    // projected: the extrapolated guess while no solutions are kept (the first step, after a
+    // cut or a rolled-back step)
+    o.extrapolate_warm_start = sv.warm_start != scene::WarmStart::Previous;
+    o.solver.start_vectors = sv.warm_start == scene::WarmStart::Projected ? sv.start_vectors : 0;
     o.solver.amg.strong_threshold = sv.amg_strong_threshold;
     o.solver.amg.aggressive_levels = sv.amg_aggressive_levels;
     o.solver.amg.interpolation_max_elements = sv.amg_interpolation_max_elements;

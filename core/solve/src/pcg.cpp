@@ -10,6 +10,7 @@
 #include "jacobi.hpp"
 #include "polycut/common/error.hpp"
 #include "polycut/solve/background_cholesky.hpp"
+#include "start_space.hpp"
 #include "two_level.hpp"
 
 #include <Eigen/Cholesky>
@@ -65,6 +66,9 @@ struct PcgSolver::Impl {
     /// requested background set-up starts only once this reaches AmgOptions::refresh_delay.
     int since_remap = std::numeric_limits<int>::max();
     int threads = 1; ///< of the matrix passes now: options.threads, or 1 (follow_background)
+    /// The last solutions, a Galerkin start for the next solve (PcgOptions::start_vectors)
+    detail::StartSpace start;
+    double start_norm = 0; ///< ||b - A x0|| of the last iterate() call's start
 
     /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
     /// count otherwise. Called where the job starts or is handed over: at fixed solves.
@@ -78,7 +82,8 @@ struct PcgSolver::Impl {
 
     explicit Impl(PcgOptions o)
         : options(o)
-        , amg(o.amg) {
+        , amg(o.amg)
+        , start(o.start_vectors) {
         options.threads = std::max(options.threads, 1);
         threads = options.threads;
         amg.set_threads(threads);
@@ -168,6 +173,7 @@ struct PcgSolver::Impl {
             r = b;
             r_norm = b.norm();
         }
+        start_norm = r_norm;
         if (r_norm <= target)
             return SolveStatus::Ok;
         if (const SolveStatus s = apply(use, A); s != SolveStatus::Ok)
@@ -414,6 +420,7 @@ void PcgSolver::reset() {
     m_impl->fresh_iterations = -1;
     m_impl->since_remap = std::numeric_limits<int>::max();
     m_impl->installed = false;
+    m_impl->start.clear();
     if (m_impl->background)
         m_impl->background->cancel();
 }
@@ -447,7 +454,9 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
 
     const double target
         = std::max(impl.options.relative_tolerance * b_norm, impl.options.absolute_tolerance);
+    impl.start.project(b, x);
     result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
+    result.start_residual = impl.start_norm / b_norm;
     int iterations_with_factor = result.iterations;
     // A stale lagged factor (or AMG hierarchy) that cannot reach the tolerance: refactor once and
     // go on from x.
@@ -473,6 +482,8 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
         }
     }
 
+    if (result.status == SolveStatus::Ok)
+        impl.start.push(x, b, impl.r);
     ++impl.solves_since_refactor;
     // Set up again only when a solve needs more than refactor_iterations and clearly more than
     // a fresh set-up did: where even a fresh hierarchy needs more than the threshold (organ
@@ -535,6 +546,7 @@ void PcgSolver::set_coarse_space(const SparseMatrix& P) {
 
 bool PcgSolver::remap_preconditioner(const RowRemap& m) {
     Impl& impl = *m_impl;
+    impl.start.clear(); // the kept solutions are of the old unknowns
     if (impl.options.preconditioner != Preconditioner::Amg || !impl.amg.remap(m))
         return false;
     ++impl.remaps_since_setup;
@@ -542,6 +554,10 @@ bool PcgSolver::remap_preconditioner(const RowRemap& m) {
     if (impl.amg_handover >= 0)
         impl.job_remaps.push_back(m);
     return true;
+}
+
+void PcgSolver::forget_solutions() {
+    m_impl->start.clear();
 }
 
 void PcgSolver::request_refresh() {

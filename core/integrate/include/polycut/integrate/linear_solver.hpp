@@ -32,6 +32,8 @@ public:
     /// PcgAmg: set the hierarchy up again if it was carried over cuts
     /// (solve::PcgSolver::request_refresh).
     void request_refresh() { m_pcg.request_refresh(); }
+    /// PCG: forget the solutions kept for the projected start (a step was rolled back).
+    void forget_solutions() { m_pcg.forget_solutions(); }
     LinearSolveResult solve(const solve::SparseMatrix& A, const solve::Vector& b, solve::Vector& x);
     /// PcgAmg: sets up the hierarchy for A ahead of the first solve (solve::PcgSolver::prepare).
     /// True when a set-up was wanted (an AMG solver).

@@ -46,6 +46,12 @@ enum class LinearSolverKind {
     CgRelaxation,
 };
 
+/// Solutions a projected PCG start keeps by default (SolverOptions::start_vectors): on the
+/// sagging 5k organ (160 steps from rest) 4 gave 167 iterations, 6 gave 153 and 8 144, against 270
+/// with the extrapolated start, each kept vector costing two dot products and an axpy per solve
+/// (docs/perf.md).
+inline constexpr int kProjectedStartVectors = 4;
+
 /// Linear solver settings.
 struct SolverOptions {
     LinearSolverKind kind = LinearSolverKind::PcgJacobi;
@@ -67,6 +73,9 @@ struct SolverOptions {
     /// solve::PcgOptions::refactor_growth)
     int refactor_iterations = 50;
     bool background_refactor = false; ///< PcgLagged: refactor on a worker thread
+    /// PCG: start each solve from the Galerkin projection of the system onto the span of the
+    /// last this many solutions (0 = off; solve::PcgOptions::start_vectors)
+    int start_vectors = 0;
     /// PcgAmg: hierarchy settings (with rigid_body_modes the integrator passes the current node
     /// positions of the free DOFs before each solve)
     solve::AmgOptions amg {};

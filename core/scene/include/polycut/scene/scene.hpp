@@ -44,7 +44,7 @@ enum class OctreeKeep { Centre, Cover };
 enum class SolverType { Cholmod, Pcg, CgRelaxation };
 enum class Preconditioner { Jacobi, BlockJacobi, CellBlockJacobi, LaggedCholesky, Amg, TwoLevel };
 /// Initial guess of an implicit step's velocity increment.
-enum class WarmStart { Previous, Extrapolated };
+enum class WarmStart { Previous, Extrapolated, Projected };
 /// How a region force is spread over its nodes.
 enum class Distribution { Area, Uniform };
 /// Cutting method: cell splitting (000) or face snapping (002, tet only).
@@ -238,10 +238,13 @@ struct Solver {
     /// lagged_cholesky, amg: ...or when a solve needed more PCG iterations than this
     int refactor_iterations = integrate::SolverOptions {}.refactor_iterations;
     /// implicit_euler with pcg / cg_relaxation: initial guess of the velocity increment dv,
-    /// Previous (dv_{n-1}) or Extrapolated (2 dv_{n-1} - dv_{n-2})
+    /// Previous (dv_{n-1}), Extrapolated (2 dv_{n-1} - dv_{n-2}) or, with pcg, Projected (the
+    /// Galerkin projection onto the last start_vectors solutions)
     WarmStart warm_start = integrate::IntegratorOptions {}.extrapolate_warm_start
         ? WarmStart::Extrapolated
         : WarmStart::Previous;
+    /// warm_start projected: solutions kept for the projection (>= 1)
+    int start_vectors = integrate::kProjectedStartVectors;
     /// amg: BoomerAMG set-up (solve::AmgOptions; defaults there)
     double amg_strong_threshold = solve::AmgOptions {}.strong_threshold; ///< theta in (0, 1)
     int amg_aggressive_levels = solve::AmgOptions {}.aggressive_levels;

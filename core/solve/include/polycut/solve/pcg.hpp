@@ -68,6 +68,10 @@ struct PcgOptions {
     /// TwoLevel: invert the smoother's blocks of every solve's matrix (true) or only at the
     /// lagged set-up of the coarse part (false)
     bool two_level_fresh_smoother = true;
+    /// Start each solve from the Galerkin projection of A x = b onto the span of the last this
+    /// many solutions (0 = off, at most 32; the given x while none is kept; Fischer 1998, see
+    /// src/start_space.hpp)
+    int start_vectors = 0;
 };
 
 struct PcgResult {
@@ -76,6 +80,9 @@ struct PcgResult {
     /// ||b - A x|| / ||b||, with PCG's recursively updated residual (equal to the true one up to
     /// round-off)
     double relative_residual = 0;
+    /// ||b - A x0|| / ||b|| of the start the iterations began from (the given x, its
+    /// projection, or zero when either was worse than zero in the A-norm)
+    double start_residual = 0;
     bool refactored = false; ///< the lagged factor was recomputed before this solve
     /// Preconditioner actually applied (BlockJacobi3 while a background factor is pending).
     Preconditioner used = Preconditioner::None;
@@ -112,8 +119,12 @@ public:
     /// whatever the hierarchy, and a set-up would put those solves on one thread). No-op
     /// otherwise.
     void request_refresh();
+    /// Forgets the solutions kept for the projected start (PcgOptions::start_vectors): a step
+    /// was rolled back. reset() and remap_preconditioner() forget them too.
+    void forget_solutions();
     /// Solves A x = b from the initial guess x. A: symmetric positive definite, full storage.
-    /// x: initial guess, replaced by zero if its size differs from A's or it is not finite;
+    /// x: initial guess, replaced by zero if its size differs from A's or it is not finite, and
+    /// by the projection onto the kept solutions with PcgOptions::start_vectors > 0;
     /// b = 0 gives x = 0 in 0 iterations. Status NotConverged at max_iterations (x is the last
     /// iterate; with a foreground lagged factor that was not fresh, it is refactored once and
     /// PCG goes on with a new budget), NotPositiveDefinite if a search direction has
