@@ -39,15 +39,25 @@ void ElasticModel::rebuild_partition() {
     if (m_partition_nodes <= 0 || m_partition_nodes > nodes)
         m_partition_nodes = nodes;
     const Index base = m_partition_nodes;
-    // Node ranges [bound[t], bound[t + 1]) holding ~count / T cells each by their first node.
+    // Node ranges [bound[t], bound[t + 1]) holding ~count / T cells each, a cell counted at the
+    // middle of its (old) node ids: a cell across a bound then counts on either side as often as
+    // on the other, so each thread loses about as many cells to the serial part. (Counted at
+    // their first node, every cell across a bound was taken from the range below it: on organ_5k
+    // 11,575 / 13,187 tets for the two threads and 1,617 serial.)
     std::vector<long> per_node(std::size_t(base) + 1, 0);
     long counted = 0;
-    for (std::size_t c = 0; c < count; ++c)
-        if (const auto n = cell_nodes(c); !n.empty())
-            if (const Index first = *std::min_element(n.begin(), n.end()); first < base) {
-                ++per_node[std::size_t(first)];
-                ++counted;
+    for (std::size_t c = 0; c < count; ++c) {
+        Index lo = base, hi = -1;
+        for (Index i : cell_nodes(c))
+            if (i < base) {
+                lo = std::min(lo, i);
+                hi = std::max(hi, i);
             }
+        if (hi >= 0) {
+            ++per_node[std::size_t(lo + (hi - lo) / 2)];
+            ++counted;
+        }
+    }
     std::vector<Index> bound(std::size_t(T) + 1, base);
     bound.front() = 0;
     long seen = 0;

@@ -160,6 +160,13 @@ public:
     int threads() const override { return m_threads; }
     /// Cells of the serial part of a threaded assembly (0 when serial), for reports and tests.
     Index shared_cells() const { return Index(m_shared_cells.size()); }
+    /// Cells each thread of a threaded assembly takes, in thread order (one entry when serial).
+    std::vector<Index> thread_cell_counts() const {
+        std::vector<Index> counts;
+        for (const auto& cells : m_thread_cells)
+            counts.push_back(Index(cells.size()));
+        return counts;
+    }
 
 private:
     struct CellData {
