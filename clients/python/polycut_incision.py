@@ -587,16 +587,21 @@ class Runner:
 
     def surface_after_cut(self, rpc, reader, srv, res):
         """get_surface once the stream has reached the tick of the last end_stroke reply (the
-        first tick whose frame reflects it); before that a snapshot may predate the cut."""
+        first tick whose frame reflects it) and, when the reply said triangles were `deferred`
+        by the cut budget, a frame whose header says none are left (`cut_deferred` 0: the
+        stroke is finished, docs/protocol.md); before that a snapshot may predate the cut."""
         r = self.end_reply
         if r is None:
             return rpc.get_surface(timeout=self.args.reply_timeout)
-        if not reader.wait_tick(r["tick"], self.args.reply_timeout, srv):
-            raise live.RpcTimeout(f"no stream frame of tick {r['tick']} (end_stroke's) within "
-                                  f"{self.args.reply_timeout:.0f} s")
+        deferred = bool(r.get("deferred"))
+        if not reader.wait_tick(r["tick"], self.args.reply_timeout, srv, cut_done=deferred):
+            raise live.RpcTimeout(f"no stream frame of tick {r['tick']} (end_stroke's) "
+                                  f"{'with its deferred triangles cut ' if deferred else ''}"
+                                  f"within {self.args.reply_timeout:.0f} s")
+        done_tick = reader.mark()[1] if deferred else r["tick"]
         for _ in range(50):
             surf = rpc.get_surface(timeout=self.args.reply_timeout)
-            if surf["tick"] >= r["tick"]:
+            if surf["tick"] >= done_tick:
                 break
             time.sleep(0.02)
         if surf["topology_version"] < r["topology_version"]:

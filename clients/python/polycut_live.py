@@ -311,7 +311,8 @@ class StreamReader(threading.Thread):
                "has_topology": bool(h.get("has_topology")), "t": now,
                "step_ms": step.get("step_ms"), "iterations": step.get("solver_iterations"),
                "warnings": len(step.get("warnings") or []), "finite": finite,
-               "vertex_count": h["vertex_count"], "applied": len(h.get("applied") or [])}
+               "vertex_count": h["vertex_count"], "applied": len(h.get("applied") or []),
+               "cut_deferred": int(h.get("cut_deferred") or 0)}
         for k, v in h.items():
             if k not in KNOWN_HEADER:
                 self.extra_header[k] = v
@@ -348,13 +349,16 @@ class StreamReader(threading.Thread):
                 return len(self.frames), f["tick"], f["tv"], time.perf_counter()
             return 0, None, None, time.perf_counter()
 
-    def wait_tick(self, tick, timeout, server=None):
+    def wait_tick(self, tick, timeout, server=None, cut_done=False):
         """Waits for a surface frame with tick >= `tick` (a reply's `tick` is the first tick
-        whose frame reflects the command). Returns False on timeout."""
+        whose frame reflects the command); with `cut_done`, also with no sweep triangles left
+        to later ticks by the cut budget (header `cut_deferred` 0: an `end_stroke` that
+        replied `deferred` > 0 is finished then). Returns False on timeout."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             with self.lock:
-                if self.frames and self.frames[-1]["tick"] >= tick:
+                if self.frames and self.frames[-1]["tick"] >= tick and (
+                        not cut_done or self.frames[-1]["cut_deferred"] == 0):
                     return True
             if server is not None and server.exited():
                 raise ServerDied(f"polycut-server exited with status {server.returncode()}")

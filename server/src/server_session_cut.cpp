@@ -16,6 +16,7 @@ using protocol::make_error;
 using protocol::RpcError;
 
 using detail::done;
+using detail::to_triangle;
 using detail::to_vec;
 
 } // namespace
@@ -98,16 +99,31 @@ std::size_t Session::pending_sweep_triangles() const {
 std::uint32_t Session::queue_sweep(Stroke& stroke, const protocol::Vector3& a,
     const protocol::Vector3& b, std::string_view client, std::uint64_t id) {
     // Consecutive samples a0b0 -> a1b1 sweep the quad (a0, b0, b1, a1): two triangles
-    // (a0, b0, a1) and (b0, b1, a1); degenerate ones (the blade did not move) are skipped.
-    const std::array<protocol::Triangle3, 2> quad
-        = { protocol::Triangle3 { stroke.a, stroke.b, a }, protocol::Triangle3 { stroke.b, b, a } };
+    // (a0, b0, a1) and (b0, b1, a1); degenerate ones (the blade did not move) are skipped. A
+    // move longer than Simulation::blade_max_advance() is swept as that many equal quads, the
+    // blade interpolated linearly, so the tick's cut budget can defer the later ones.
+    const Vec3 a0 = to_vec(stroke.a), b0 = to_vec(stroke.b), a1 = to_vec(a), b1 = to_vec(b);
+    const double advance = std::max((a1 - a0).norm(), (b1 - b0).norm());
+    const double step = m_sim->blade_max_advance();
+    constexpr int kMaxQuads = 64; // a blade flung across the scene: bounded work
+    const int quads = step > 0 && advance > step
+        ? static_cast<int>(std::min<double>(kMaxQuads, std::ceil(advance / step)))
+        : 1;
     std::uint32_t added = 0;
-    for (const auto& tri : quad) {
-        if (!protocol::triangle_defect(tri)) {
-            m_pending_sweep.push_back(
-                { std::string(client), id, { to_vec(tri[0]), to_vec(tri[1]), to_vec(tri[2]) } });
-            ++added;
+    Vec3 pa = a0, pb = b0;
+    for (int q = 1; q <= quads; ++q) {
+        const double s = double(q) / quads;
+        const Vec3 qa = q == quads ? a1 : Vec3(a0 + s * (a1 - a0));
+        const Vec3 qb = q == quads ? b1 : Vec3(b0 + s * (b1 - b0));
+        const std::array<std::array<Vec3, 3>, 2> quad = { { { pa, pb, qa }, { pb, qb, qa } } };
+        for (const auto& tri : quad) {
+            if (!protocol::triangle_defect(to_triangle(tri))) {
+                m_pending_sweep.push_back({ std::string(client), id, tri });
+                ++added;
+            }
         }
+        pa = qa;
+        pb = qb;
     }
     stroke.a = a;
     stroke.b = b;

@@ -14,4 +14,11 @@ inline Vec3 to_vec(const protocol::Vector3& v) {
     return Vec3(v[0], v[1], v[2]);
 }
 
+inline protocol::Triangle3 to_triangle(const std::array<Vec3, 3>& t) {
+    protocol::Triangle3 out;
+    for (std::size_t k = 0; k < 3; ++k)
+        out[k] = { t[k].x(), t[k].y(), t[k].z() };
+    return out;
+}
+
 } // namespace polycut::server::detail

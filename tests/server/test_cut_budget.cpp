@@ -129,6 +129,45 @@ TEST_P(CutBudget, AStrokeEndedWhileItsTrianglesWaitIsFinishedLater) {
     EXPECT_LE(drain(200), 200);
 }
 
+TEST_P(CutBudget, AFastBladeIsSweptInCellSizedQuadsThatTheBudgetSpreads) {
+    // One scalpel move along the whole block (5 cm in one sample) is swept as ceil(5 cm / 5.5
+    // mm) = 10 quads (Simulation::blade_max_advance: the cube root of a Kuhn tet's volume,
+    // (1 cm^3 / 6)^(1/3)). The quads tile the move: the swept area of one quad cut at once.
+    // A budget of 6 cells per tick spreads them over more ticks, like a long `cut`, and the
+    // stroke then cuts what it cuts without the budget.
+    load(0);
+    client->ok<CutResult>(CutParams { incision(0.003, -0.025, 0.025, 0.006) });
+    const double swept = client->stats().swept_area;
+    EXPECT_NEAR(swept, 0.04 * 0.014, 1e-9); // inside the block: x -2-2 cm, z 0.6-2 cm
+
+    const auto stroke = [&] {
+        client->notify(ScalpelParams { 2, { -0.025, 0.003, 0.03 }, { -0.025, 0.003, 0.006 } });
+        client->notify(ScalpelParams { 2, { 0.025, 0.003, 0.03 }, { 0.025, 0.003, 0.006 } });
+        return client->ok<CutResult>(EndStrokeParams { 2 });
+    };
+    // No cell budget (the server's 16 triangles per tick still apply: 16 + 4).
+    load(0);
+    const CutResult whole = stroke();
+    EXPECT_EQ(whole.triangles + whole.deferred, 20u);
+    EXPECT_LE(drain(10), 10);
+    EXPECT_NEAR(client->stats().swept_area, swept, 1e-4 * swept);
+    const double reference = cut_area(client->ok<SurfaceSnapshot>(GetSurfaceParams {}));
+    ASSERT_GT(reference, 0.0);
+
+    load(6);
+    const CutResult end = stroke();
+    EXPECT_EQ(end.triangles + end.deferred, 20u);
+    EXPECT_GT(end.deferred, 0u) << "6 cells per tick should not hold the whole move";
+    const int ticks = drain(200);
+    EXPECT_GE(ticks, 2);
+    EXPECT_LE(ticks, 200) << "the deferred quads were never cut";
+    // The block sags a little between the ticks (the blade maps through it: 2e-5 of the swept
+    // area, 0.1 % of the cut area here).
+    EXPECT_NEAR(client->stats().swept_area, swept, 1e-4 * swept);
+    const double area = cut_area(client->ok<SurfaceSnapshot>(GetSurfaceParams {}));
+    EXPECT_NEAR(area / reference, 1.0, 0.03);
+}
+
 TEST_P(CutBudget, TheTriangleBudgetSpreadsALongCutOverTicks) {
     // limits.cut_triangles_per_tick (default 16), no cell budget: a 40-triangle cut applies 16
     // at once and the rest over the next ticks, and cuts what the whole cut does at once.

@@ -124,10 +124,11 @@ TEST_P(CutFailures, ScalpelRequestGetsAnErrorAndTheSampleIsTakenBack) {
     const RpcError e = client->error(second);
     EXPECT_EQ(e.code, ErrorCode::CutRejected);
     EXPECT_EQ(client->stats().topology_version, before.topology_version);
-    // The stroke still continues from the first sample: resending the second one cuts.
-    EXPECT_EQ(client->ok<ScalpelResult>(second).triangles, 2u);
+    // The stroke still continues from the first sample: resending the second one cuts (a 24 mm
+    // move on 5.5 mm cells: 5 quads, Simulation::blade_max_advance).
+    EXPECT_EQ(client->ok<ScalpelResult>(second).triangles, 10u);
     EXPECT_GT(client->stats().topology_version, before.topology_version);
-    EXPECT_EQ(client->ok<CutResult>(EndStrokeParams { 5 }).triangles, 2u);
+    EXPECT_EQ(client->ok<CutResult>(EndStrokeParams { 5 }).triangles, 10u);
 }
 
 TEST_P(CutFailures, ScalpelNotificationsAtTheTickPublishARejectedEvent) {
@@ -142,13 +143,13 @@ TEST_P(CutFailures, ScalpelNotificationsAtTheTickPublishARejectedEvent) {
     EXPECT_EQ((*rejected)["method"], "scalpel");
     EXPECT_EQ((*rejected)["stroke"], 9);
     EXPECT_EQ((*rejected)["code"], static_cast<int>(ErrorCode::CutRejected));
-    EXPECT_EQ((*rejected)["triangles"], 2);
+    EXPECT_EQ((*rejected)["triangles"], 10); // 24 mm on 5.5 mm cells: 5 quads
     const Stats after = client->stats();
     EXPECT_EQ(after.topology_version, before.topology_version);
     EXPECT_EQ(after.tick, before.tick + 2); // the server stepped on
     // The stroke is still open and cuts on (back over the same path: the uncut one).
     client->notify(ScalpelParams { 9, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
-    EXPECT_EQ(client->ok<CutResult>(EndStrokeParams { 9 }).triangles, 4u);
+    EXPECT_EQ(client->ok<CutResult>(EndStrokeParams { 9 }).triangles, 20u);
     EXPECT_GT(client->stats().topology_version, before.topology_version);
 }
 

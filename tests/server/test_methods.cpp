@@ -186,22 +186,27 @@ TEST_F(Methods, ScalpelStrokeFormsSweepTrianglesAndEndStrokeCloses) {
     RunningServer server(test_config(dir, true));
     Client client(context, server.control());
     const std::uint64_t v0 = client.stats().topology_version;
-    // Three blade samples along y = 0: the first opens the stroke, each next adds two triangles.
+    // Three blade samples along y = 0: the first opens the stroke, each next adds two triangles
+    // per quad. A move longer than the mean cell size (Simulation::blade_max_advance: the cube
+    // root of a Kuhn tet's volume, (1 cm^3 / 6)^(1/3) = 5.5 mm on the small block) is swept in
+    // equal quads of at most that: 12 mm -> 3 quads, 6 triangles.
     const auto s0 = client.ok<ScalpelResult>(
         ScalpelParams { 7, { -0.012, 0.003, 0.03 }, { -0.012, 0.003, 0.008 } });
     EXPECT_EQ(s0.triangles, 0u);
     EXPECT_EQ(client.stats().open_strokes, 1u);
     const auto s1 = client.ok<ScalpelResult>(
         ScalpelParams { 7, { 0.0, 0.003, 0.03 }, { 0.0, 0.003, 0.008 } });
-    EXPECT_EQ(s1.triangles, 2u);
+    EXPECT_EQ(s1.triangles, 6u);
     // The blade did not move: degenerate sweep, skipped.
     const auto s2 = client.ok<ScalpelResult>(
         ScalpelParams { 7, { 0.0, 0.003, 0.03 }, { 0.0, 0.003, 0.008 } });
     EXPECT_EQ(s2.triangles, 0u);
     client.notify(ScalpelParams { 7, { 0.012, 0.003, 0.03 }, { 0.012, 0.003, 0.008 } });
     const auto end = client.ok<CutResult>(EndStrokeParams { 7 });
-    EXPECT_EQ(end.triangles, 4u);
+    EXPECT_EQ(end.triangles, 12u);
     EXPECT_GT(end.topology_version, v0);
+    // The quads tile the blade's sweep: inside the block (z 0.8-2 cm) it swept 2.4 x 1.2 cm.
+    EXPECT_NEAR(client.stats().swept_area, 0.024 * 0.012, 1e-9);
     EXPECT_EQ(client.stats().open_strokes, 0u);
     const RpcError e = client.error(EndStrokeParams { 7 });
     EXPECT_EQ(e.code, ErrorCode::NotFound);

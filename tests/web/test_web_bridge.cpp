@@ -6,6 +6,8 @@
 #include "envelope.hpp"
 #include "web_server.hpp"
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -216,17 +218,31 @@ TEST_F(Bridge, RelaysRequestsRepliesAndStreamFramesUnchanged) {
     EXPECT_EQ(
         json::parse(unpack_frames(beast::buffers_to_string(buffer.data()), 8)->at(0))["id"], 8);
 
-    // Stream messages: published until one arrives (the subscription takes a moment).
+    // Stream messages: published every 20 ms until one arrives (the subscription takes a
+    // moment, and a message published before it is lost: a single publish before a blocking
+    // read could wait forever). After 5 s without one the socket is shut down, so the read
+    // fails instead of hanging.
     const std::vector<std::string> surface
         = { "surface", R"({"seq": 5})", std::string("\x10\x20\x30\x40", 4) };
-    std::optional<std::vector<std::string>> got;
-    for (int attempt = 0; attempt < 100 && !got; ++attempt) {
-        fake.publish(surface);
-        ws.next_layer().non_blocking(false);
-        buffer.consume(buffer.size());
-        ws.read(buffer);
-        got = unpack_frames(beast::buffers_to_string(buffer.data()), 8);
-    }
+    std::atomic<bool> received { false };
+    std::thread publisher([&] {
+        for (int attempt = 0; attempt < 250 && !received; ++attempt) {
+            fake.publish(surface);
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        if (!received) {
+            beast::error_code ignored;
+            ws.next_layer().shutdown(tcp::socket::shutdown_both, ignored);
+        }
+    });
+    buffer.consume(buffer.size());
+    beast::error_code ec;
+    ws.read(buffer, ec);
+    received = true;
+    publisher.join();
+    ASSERT_FALSE(ec) << "no stream message within 5 s: " << ec.message();
+    const std::optional<std::vector<std::string>> got
+        = unpack_frames(beast::buffers_to_string(buffer.data()), 8);
     ASSERT_TRUE(got);
     EXPECT_EQ(*got, surface);
     ws.close(websocket::close_code::normal);

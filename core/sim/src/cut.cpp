@@ -155,6 +155,10 @@ double Simulation::Impl::blade_min_advance() const {
     return kMinAdvance * initial_cell_size;
 }
 
+double Simulation::blade_max_advance() const {
+    return m_impl->initial_cell_size;
+}
+
 CutSummary Simulation::end_stroke() {
     Impl& s = *m_impl;
     CutSummary summary;

@@ -274,6 +274,12 @@ public:
     /// sliver strip per tick from a slowly moving blade makes slivers, and costs a cut each);
     /// 0 for face snapping, which keeps crossings between ticks.
     double blade_min_advance() const;
+    /// The longest move of a scalpel blade that is swept as one quad [m]: the mean cell size of
+    /// the uncut mesh (0: no limit). The server sweeps a longer move between two samples in
+    /// equal steps of at most this, the blade interpolated linearly, so that the tick's cut
+    /// budget (`cutting.max_cells_per_tick`) can carry part of a fast stroke to the next tick
+    /// instead of cutting a 2 cm quad through the organ in one tick (issue 12 item 5).
+    double blade_max_advance() const;
     /// Ends the current stroke: later triangles map to rest space afresh; with face snapping,
     /// the faces it still held back are cut now. Status Failed (nothing changed) when that cut
     /// fails; like a cut, it is undone by the next step() if that step fails.
