@@ -7,6 +7,7 @@
 #include "polycut/mesh/builders.hpp"
 #include "polycut/solve/pcg.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <gtest/gtest.h>
@@ -208,4 +209,69 @@ TEST(Amg, NewUnknownsInterpolateFromTheirOrigins) {
     }
     EXPECT_LT(double(iterations[1]), 0.9 * double(iterations[0]))
         << "zero rows " << iterations[0] << ", origins " << iterations[1];
+}
+
+TEST(Amg, KeptSolutionsFollowACutAndProjectWithTheNewMatrix) {
+    // PcgOptions::start_vectors with a carried hierarchy: remap_preconditioner() moves the kept
+    // solutions to the new unknowns (a new one takes its origin's value) and the next solve
+    // starts from their Galerkin projection with the new matrix B (products recomputed): its
+    // start residual is the one of x0 = V c, V^T B V c = V^T b, computed here densely (1e-8).
+    const BoxSystem s = box_system(6);
+    const double h = 0.01, beta = 0.01;
+    SparseMatrix A = (h * h + h * beta) * s.K;
+    A.diagonal() += s.mass;
+    const long n = A.rows();
+    PcgOptions o = amg_options(1e-8);
+    o.refactor_iterations = 1000;
+    o.start_vectors = 3;
+    PcgSolver pcg(o);
+    Vector x;
+    std::vector<Vector> kept;
+    for (unsigned k = 0; k < 3; ++k) {
+        ASSERT_EQ(pcg.solve(A, random_vector(n, 20 + k), x).status, SolveStatus::Ok);
+        kept.push_back(x);
+    }
+    // Three new unknowns appended, coupled to (and originating from) rows 0, 1, 2.
+    std::vector<long> old_of(static_cast<std::size_t>(n));
+    for (long i = 0; i < n; ++i)
+        old_of[std::size_t(i)] = i;
+    RowRemap remap { old_of, {}, {}, {} };
+    remap.origin_ptr.assign(std::size_t(n) + 1, 0);
+    std::vector<Eigen::Triplet<double>> t;
+    for (int c = 0; c < A.outerSize(); ++c)
+        for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+            t.emplace_back(int(it.row()), c, it.value());
+    const double a00 = A.coeff(0, 0);
+    for (int k = 0; k < 3; ++k) {
+        remap.old_of.push_back(-1);
+        remap.origin_row.push_back(k);
+        remap.origin_weight.push_back(1.0);
+        remap.origin_ptr.push_back(k + 1);
+        const int r = int(n) + k;
+        t.emplace_back(r, r, a00);
+        t.emplace_back(r, k, -0.3 * a00);
+        t.emplace_back(k, r, -0.3 * a00);
+        t.emplace_back(k, k, 0.3 * a00);
+    }
+    const long m = n + 3;
+    SparseMatrix B(m, m);
+    B.setFromTriplets(t.begin(), t.end());
+    B.makeCompressed();
+    ASSERT_TRUE(pcg.remap_preconditioner(remap));
+
+    Eigen::MatrixXd V(m, 3);
+    for (int i = 0; i < 3; ++i) {
+        V.col(i).head(n) = kept[std::size_t(i)];
+        V.col(i).tail(3) = kept[std::size_t(i)].head(3);
+    }
+    const Vector b = random_vector(m, 30);
+    const Eigen::VectorXd c = (V.transpose() * (B * V)).ldlt().solve(V.transpose() * b);
+    const Vector x0 = V * c;
+    const double expected = Vector(b - B * x0).norm() / b.norm();
+    Vector y = Vector::Zero(m);
+    const PcgResult r = pcg.solve(B, b, y);
+    ASSERT_EQ(r.status, SolveStatus::Ok);
+    EXPECT_NEAR(r.start_residual, expected, 1e-8 * expected);
+    EXPECT_LT(0.5 * x0.dot(B * x0) - b.dot(x0), 0.0); // closer than zero in the A-norm
+    EXPECT_LE(Vector(B * y - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
 }

@@ -454,7 +454,7 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
 
     const double target
         = std::max(impl.options.relative_tolerance * b_norm, impl.options.absolute_tolerance);
-    impl.start.project(b, x);
+    impl.start.project(A, b, x, impl.threads);
     result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
     result.start_residual = impl.start_norm / b_norm;
     int iterations_with_factor = result.iterations;
@@ -546,7 +546,7 @@ void PcgSolver::set_coarse_space(const SparseMatrix& P) {
 
 bool PcgSolver::remap_preconditioner(const RowRemap& m) {
     Impl& impl = *m_impl;
-    impl.start.clear(); // the kept solutions are of the old unknowns
+    impl.start.remap(m); // the kept solutions follow the unknowns
     if (impl.options.preconditioner != Preconditioner::Amg || !impl.amg.remap(m))
         return false;
     ++impl.remaps_since_setup;

@@ -13,6 +13,38 @@ void StartSpace::clear() {
     m_saved.clear();
     m_products.clear();
     m_next = 0;
+    m_stale = false;
+}
+
+void StartSpace::rebuild_gram() {
+    for (std::size_t i = 0; i < m_saved.size(); ++i)
+        for (std::size_t j = 0; j <= i; ++j)
+            m_gram(Eigen::Index(i), Eigen::Index(j)) = m_gram(Eigen::Index(j), Eigen::Index(i))
+                = 0.5 * (m_saved[i].dot(m_products[j]) + m_saved[j].dot(m_products[i]));
+}
+
+void StartSpace::remap(const RowRemap& m) {
+    const std::size_t n = m.old_of.size();
+    const bool origins = m.origin_ptr.size() == n + 1;
+    for (Vector& s : m_saved) {
+        Vector moved = Vector::Zero(Eigen::Index(n));
+        for (std::size_t r = 0; r < n; ++r) {
+            const long old = m.old_of[r];
+            if (old >= 0 && old < s.size()) {
+                moved[Eigen::Index(r)] = s[old];
+            } else if (origins) {
+                double v = 0;
+                for (int k = m.origin_ptr[r]; k < m.origin_ptr[r + 1]; ++k) {
+                    const long o = m.origin_row[std::size_t(k)];
+                    if (o >= 0 && o < s.size())
+                        v += m.origin_weight[std::size_t(k)] * s[o];
+                }
+                moved[Eigen::Index(r)] = v;
+            }
+        }
+        s = std::move(moved);
+    }
+    m_stale = !m_saved.empty();
 }
 
 void StartSpace::push(const Vector& x, const Vector& b, const Vector& r) {
@@ -32,15 +64,23 @@ void StartSpace::push(const Vector& x, const Vector& b, const Vector& r) {
         m_products[j] = b - r;
     }
     m_next = (m_next + 1) % m_capacity;
+    if (m_stale) // products of the other solutions still to recompute: none valid yet
+        return;
     for (std::size_t i = 0; i < m_saved.size(); ++i)
         m_gram(Eigen::Index(i), Eigen::Index(j)) = m_gram(Eigen::Index(j), Eigen::Index(i))
             = 0.5 * (m_saved[i].dot(m_products[j]) + m_saved[j].dot(m_products[i]));
 }
 
-bool StartSpace::project(const Vector& b, Vector& x) const {
+bool StartSpace::project(const SparseMatrix& A, const Vector& b, Vector& x, int threads) {
     const Eigen::Index m = Eigen::Index(m_saved.size());
     if (m == 0 || m_saved.front().size() != x.size() || b.size() != x.size())
         return false;
+    if (m_stale) {
+        for (std::size_t i = 0; i < m_saved.size(); ++i)
+            multiply_symmetric(A, m_saved[i], m_products[i], threads);
+        rebuild_gram();
+        m_stale = false;
+    }
     SmallVector g(m);
     for (Eigen::Index i = 0; i < m; ++i)
         g[i] = m_saved[std::size_t(i)].dot(b);

@@ -37,8 +37,14 @@ public:
     void clear();
 
     /// x <- sum c_i s_i over the kept solutions of x's size, with G c = (s_i.b)_i (pseudo-inverse
-    /// for dependent s_i). Returns false (x unchanged) when none is kept.
-    bool project(const Vector& b, Vector& x) const;
+    /// for dependent s_i). Returns false (x unchanged) when none is kept. After remap() the
+    /// products are those of A, computed here (k products with A, `threads` as PCG's).
+    bool project(const SparseMatrix& A, const Vector& b, Vector& x, int threads);
+
+    /// A cut renumbered the unknowns (RowRemap): the kept solutions follow, a new unknown taking
+    /// the weighted values of its origins (0 without); their products are recomputed with the
+    /// next system's matrix, as the cut changed it.
+    void remap(const RowRemap& m);
 
     /// Keeps x, the solution of A x = b with residual r = b - A x, dropping the oldest.
     void push(const Vector& x, const Vector& b, const Vector& r);
@@ -49,6 +55,8 @@ private:
     std::vector<Vector> m_products; ///< A_i s_i of each one's own solve
     Small m_gram; ///< G, capacity x capacity, the first size() rows in use
     int m_next = 0; ///< slot of the next push
+    bool m_stale = false; ///< products to recompute (remap())
+    void rebuild_gram();
 };
 
 } // namespace polycut::solve::detail

@@ -120,7 +120,8 @@ public:
     /// otherwise.
     void request_refresh();
     /// Forgets the solutions kept for the projected start (PcgOptions::start_vectors): a step
-    /// was rolled back. reset() and remap_preconditioner() forget them too.
+    /// was rolled back. reset() forgets them too; remap_preconditioner() carries them to the new
+    /// unknowns (their products with A are recomputed by the next solve).
     void forget_solutions();
     /// Solves A x = b from the initial guess x. A: symmetric positive definite, full storage.
     /// x: initial guess, replaced by zero if its size differs from A's or it is not finite, and
