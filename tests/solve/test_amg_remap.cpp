@@ -20,19 +20,31 @@ using polycut::solve::testing::box_system;
 using polycut::solve::testing::BoxSystem;
 using polycut::solve::testing::random_vector;
 
+namespace {
+/// M + (h^2 + h beta) K of a box system, h = 0.01 s, beta = 0.01 s.
+SparseMatrix step_matrix(const BoxSystem& s) {
+    const double h = 0.01, beta = 0.01;
+    SparseMatrix A = (h * h + h * beta) * s.K;
+    A.diagonal() += s.mass;
+    return A;
+}
+
+/// AMG PCG at 1e-8 whose hierarchy is only set up once (carried over the remaps).
+PcgOptions carried_options() {
+    PcgOptions o = amg_options(1e-8);
+    o.refactor_iterations = 1000;
+    return o;
+}
+} // namespace
+
 TEST(Amg, HierarchyCarriedOverARenumberingSolvesWithoutASetUp) {
     // What a cut does to the step matrix: unknowns renumbered (here the last node's three rows
     // move to the front) and new ones appended (three rows coupled to the first node). The
     // remapped hierarchy (zero interpolation rows for the new unknowns) must still precondition
     // PCG to the tolerance without a new set-up.
-    const BoxSystem s = box_system(8);
-    const double h = 0.01, beta = 0.01;
-    SparseMatrix A = (h * h + h * beta) * s.K;
-    A.diagonal() += s.mass;
+    const SparseMatrix A = step_matrix(box_system(8));
     const long n = A.rows();
-    PcgOptions o = amg_options(1e-8);
-    o.refactor_iterations = 1000;
-    PcgSolver pcg(o);
+    PcgSolver pcg(carried_options());
     Vector x;
     ASSERT_EQ(pcg.solve(A, random_vector(n, 3), x).status, SolveStatus::Ok);
     ASSERT_EQ(pcg.refactorizations(), 1);
@@ -216,13 +228,9 @@ TEST(Amg, KeptSolutionsFollowACutAndProjectWithTheNewMatrix) {
     // solutions to the new unknowns (a new one takes its origin's value) and the next solve
     // starts from their Galerkin projection with the new matrix B (products recomputed): its
     // start residual is the one of x0 = V c, V^T B V c = V^T b, computed here densely (1e-8).
-    const BoxSystem s = box_system(6);
-    const double h = 0.01, beta = 0.01;
-    SparseMatrix A = (h * h + h * beta) * s.K;
-    A.diagonal() += s.mass;
+    const SparseMatrix A = step_matrix(box_system(6));
     const long n = A.rows();
-    PcgOptions o = amg_options(1e-8);
-    o.refactor_iterations = 1000;
+    PcgOptions o = carried_options();
     o.start_vectors = 3;
     PcgSolver pcg(o);
     Vector x;
