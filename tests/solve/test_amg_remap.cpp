@@ -280,6 +280,5 @@ TEST(Amg, KeptSolutionsFollowACutAndProjectWithTheNewMatrix) {
     const PcgResult r = pcg.solve(B, b, y);
     ASSERT_EQ(r.status, SolveStatus::Ok);
     EXPECT_NEAR(r.start_residual, expected, 1e-8 * expected);
-    EXPECT_LT(0.5 * x0.dot(B * x0) - b.dot(x0), 0.0); // closer than zero in the A-norm
     EXPECT_LE(Vector(B * y - b).norm(), 1e-8 * b.norm() * (1 + 1e-6));
 }

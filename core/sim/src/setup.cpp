@@ -206,7 +206,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.refactor_every = sv.refactor_every;
     o.solver.refactor_iterations = sv.refactor_iterations;
     // projected: the extrapolated guess while no solutions are kept (the first step, after a
-    // cut or a rolled-back step)
+    // rolled-back step or a cut that set the preconditioner up anew)
     o.extrapolate_warm_start = sv.warm_start != scene::WarmStart::Previous;
     o.solver.start_vectors = sv.warm_start == scene::WarmStart::Projected ? sv.start_vectors : 0;
     o.solver.amg.strong_threshold = sv.amg_strong_threshold;

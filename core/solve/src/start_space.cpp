@@ -16,11 +16,10 @@ void StartSpace::clear() {
     m_stale = false;
 }
 
-void StartSpace::rebuild_gram() {
-    for (std::size_t i = 0; i < m_saved.size(); ++i)
-        for (std::size_t j = 0; j <= i; ++j)
-            m_gram(Eigen::Index(i), Eigen::Index(j)) = m_gram(Eigen::Index(j), Eigen::Index(i))
-                = 0.5 * (m_saved[i].dot(m_products[j]) + m_saved[j].dot(m_products[i]));
+void StartSpace::set_gram(std::size_t i, std::size_t j) {
+    // symmetrized: the lagged products are of different matrices
+    m_gram(Eigen::Index(i), Eigen::Index(j)) = m_gram(Eigen::Index(j), Eigen::Index(i))
+        = 0.5 * (m_saved[i].dot(m_products[j]) + m_saved[j].dot(m_products[i]));
 }
 
 void StartSpace::remap(const RowRemap& m) {
@@ -50,11 +49,12 @@ void StartSpace::remap(const RowRemap& m) {
 void StartSpace::push(const Vector& x, const Vector& b, const Vector& r) {
     if (m_capacity == 0)
         return;
-    if (!x.allFinite() || !r.allFinite()
-        || (!m_saved.empty() && m_saved.front().size() != x.size()))
+    if (!x.allFinite() || !r.allFinite()) {
         clear();
-    if (!x.allFinite() || !r.allFinite())
         return;
+    }
+    if (!m_saved.empty() && m_saved.front().size() != x.size())
+        clear(); // another system
     const std::size_t j = std::size_t(m_next);
     if (j == m_saved.size()) {
         m_saved.push_back(x);
@@ -67,8 +67,7 @@ void StartSpace::push(const Vector& x, const Vector& b, const Vector& r) {
     if (m_stale) // products of the other solutions still to recompute: none valid yet
         return;
     for (std::size_t i = 0; i < m_saved.size(); ++i)
-        m_gram(Eigen::Index(i), Eigen::Index(j)) = m_gram(Eigen::Index(j), Eigen::Index(i))
-            = 0.5 * (m_saved[i].dot(m_products[j]) + m_saved[j].dot(m_products[i]));
+        set_gram(i, j);
 }
 
 bool StartSpace::project(const SparseMatrix& A, const Vector& b, Vector& x, int threads) {
@@ -78,7 +77,9 @@ bool StartSpace::project(const SparseMatrix& A, const Vector& b, Vector& x, int 
     if (m_stale) {
         for (std::size_t i = 0; i < m_saved.size(); ++i)
             multiply_symmetric(A, m_saved[i], m_products[i], threads);
-        rebuild_gram();
+        for (std::size_t i = 0; i < m_saved.size(); ++i)
+            for (std::size_t j = 0; j <= i; ++j)
+                set_gram(i, j);
         m_stale = false;
     }
     SmallVector g(m);

@@ -9,7 +9,7 @@
 // kept s_i: k products with A per solve. Here each s_i keeps the product of its own solve
 // instead, A_i s_i = b_i - r_i (PCG's residual at exit, free), and the small Galerkin matrix
 // G_ij = (s_i.A_j s_j + s_j.A_i s_i) / 2 changes by one row per solve. On the sagging organ the
-// lagged products gave the exact projection's iterations (167 against 165 over 150 steps, 270
+// lagged products gave the exact projection's iterations (167 against 165 over 160 steps, 270
 // with the extrapolated start) for none of its 4 extra products (docs/perf.md). A start that
 // the lag makes worse than zero is caught by PCG's energy test.
 #pragma once
@@ -32,8 +32,7 @@ public:
     /// Keeps the last `capacity` solutions (0 = off; at most kMaxCapacity).
     explicit StartSpace(int capacity = 0);
 
-    int capacity() const { return m_capacity; }
-    /// Forgets the kept solutions (a cut changed the unknowns, a step was rolled back).
+    /// Forgets the kept solutions (the preconditioner was set up anew, a step was rolled back).
     void clear();
 
     /// x <- sum c_i s_i over the kept solutions of x's size, with G c = (s_i.b)_i (pseudo-inverse
@@ -56,7 +55,8 @@ private:
     Small m_gram; ///< G, capacity x capacity, the first size() rows in use
     int m_next = 0; ///< slot of the next push
     bool m_stale = false; ///< products to recompute (remap())
-    void rebuild_gram();
+    /// G_ij = G_ji = (s_i.w_j + s_j.w_i) / 2 from the kept solutions and products
+    void set_gram(std::size_t i, std::size_t j);
 };
 
 } // namespace polycut::solve::detail
