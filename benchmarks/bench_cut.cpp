@@ -5,14 +5,17 @@
 // add scheduling noise to.
 //
 //   bench_cut SCENE.json... [--cutter snap|split|asis] [--ticks N] [--settle S] [--depth D]
-//             [--strokes K] [--offset Y] [--after A]
+//             [--strokes K] [--offset Y] [--after A] [--explode-every E]
 //
 // The stroke: a blade from 2 cm above the tissue's top down to D x its height (default 0.4),
 // in the plane y = centre + Y (default 2.5 mm: between grid planes on the shipped boxes), moving
 // along x over the middle 60 % of the tissue in N ticks (default 180 = 3 s at 60 Hz), after S steps
 // of settling (default 10); with K > 1 the same stroke (in world space) K times, a re-cut of the
 // deformed body (default 1); then A ticks of stepping without a cut (default 0): the hand-over
-// of the set-up the end of the stroke asks for. One JSON object per scene on stdout:
+// of the set-up the end of the stroke asks for. With --explode-every E, every E-th tick of a stroke
+// whose cut changed the mesh grabs the blade's tip with a 1e9 N/m spring dragged 1 m, so that
+// its step explodes and undoes the tick's cuts (decision 0070: the model goes back from its
+// journal). One JSON object per scene on stdout:
 //   nodes, cells (before/after), cutter, model_growth (MeshStats::model_growth)
 //   cut_ms, step_ms, tick_ms {median, p99, max}   per tick wall times [ms] (tick = cut + step)
 //   cut_cpu_ms, tick_cpu_ms                        the same in CPU time of the process (all
@@ -23,6 +26,9 @@
 //   completeness, failed_cuts, undone               cut area / 2 x swept area; failures
 //   undo_reasons                                   the reasons of the first failed or undone cuts
 //   after {tick_ms, its}                           with --after: the ticks after the strokes
+//   explode {undone, tick_ms, next_step_ms}         with --explode-every: undone cuts, the ticks
+//                                                  that undid them (cut, failed step, undo) and
+//                                                  the step of the tick after each
 // With BENCH_CUT_TRACE=1 in the environment, one line per tick on stderr (wall ms of the tick, its
 // cut, assembly and solves; CPU ms; cells; PCG iterations).
 #include "polycut/common/error.hpp"
@@ -55,6 +61,7 @@ struct Args {
     int strokes = 1; // the same stroke again, in world space, after the first (a re-cut)
     double offset = 0.0025; // the blade's plane: y = centre + offset [m]
     int after = 0; // ticks stepped after the last stroke
+    int explode_every = 0; // every E-th tick of a stroke that cuts, a grab makes its step explode
 };
 
 /// CPU time of the process, all threads [ms].
@@ -113,6 +120,11 @@ json run(const std::string& path, const Args& a) {
     // Triangles past a tick's cut budget wait for the next tick, as the server carries them.
     std::vector<std::array<Vec3, 3>> waiting;
     int deferred = 0;
+    // --explode-every: the ticks whose step explodes, and the step of the tick after each
+    std::vector<double> explode_tick_ms, after_undo_ms;
+    int exploded = 0;
+    bool next_step = false;
+    std::uint64_t topology_seen = s.topology_version();
     auto cut_now = [&](std::vector<std::array<Vec3, 3>> tris) {
         tris.insert(tris.begin(), waiting.begin(), waiting.end());
         waiting.clear();
@@ -161,7 +173,30 @@ json run(const std::string& path, const Args& a) {
             }
         }
         const double cut = tick.ms(), cpu_cut = cpu_ms() - cpu0;
+        const bool explode = a.explode_every > 0 && k % a.explode_every == 0
+            && s.topology_version() != topology_seen;
+        if (explode) {
+            // a 1e9 N/m grab at the blade's tip dragged 1 m: the step after the cut explodes, is
+            // rolled back and undoes the tick's cuts (the grab, made after them, goes too)
+            sim::GrabSpec g;
+            g.point = last.second;
+            g.stiffness = 1e9;
+            try {
+                s.move_grab(s.grab(g), last.second + Vec3(1.0, 0, 0));
+            } catch (const Error&) {
+                // the tip outside the material: this tick steps as usual
+            }
+        }
         const sim::StepReport r = s.step();
+        if (explode) {
+            explode_tick_ms.push_back(tick.ms());
+            exploded += r.cut_undone ? 1 : 0;
+            next_step = true;
+        } else if (next_step) {
+            after_undo_ms.push_back(tick.ms() - cut);
+            next_step = false;
+        }
+        topology_seen = s.topology_version();
         const double total = tick.ms();
         cut_cpu.push_back(cpu_cut);
         if (std::getenv("BENCH_CUT_TRACE")) {
@@ -231,6 +266,11 @@ json run(const std::string& path, const Args& a) {
         { "ticks_over_50", over_50 }, { "completeness", st.completeness() },
         { "failed_cuts", failed }, { "deferred_triangles", deferred }, { "undone", undone },
         { "undo_reasons", reasons },
+        { "explode",
+            a.explode_every > 0
+                ? json { { "undone", exploded }, { "tick_ms", percentiles(explode_tick_ms) },
+                    { "next_step_ms", percentiles(after_undo_ms) } }
+                : json() },
         { "after",
             a.after > 0
                 ? json { { "tick_ms", percentiles(after_ms) }, { "its", percentiles(after_its) } }
@@ -260,6 +300,8 @@ int main(int argc, char** argv) {
             a.offset = std::stod(value());
         else if (arg == "--strokes")
             a.strokes = std::stoi(value());
+        else if (arg == "--explode-every")
+            a.explode_every = std::stoi(value());
         else if (arg == "--after")
             a.after = std::stoi(value());
         else

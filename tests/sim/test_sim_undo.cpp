@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <gtest/gtest.h>
 
 namespace polycut::sim {
@@ -101,6 +102,95 @@ TEST(SimulationUndo, AStepThatExplodesRightAfterACutUndoesTheCut) {
     EXPECT_FALSE(next.rolled_back);
     EXPECT_FALSE(next.cut_undone);
 }
+
+namespace {
+const char* kTetBlock = R"({"name": "undo_tets",
+  "geometry": {"type": "box", "origin": [-0.05, -0.05, 0], "size": [0.1, 0.1, 0.1], "cells": [4, 4, 4]},
+  "method": "mvc",
+  "material": {"youngs_modulus": 3e4, "poisson_ratio": 0.3, "density": 1000, "rayleigh_stiffness": 0.02},
+  "integrator": {"type": "implicit_euler", "dt": 0.01, "threads": 2},
+  "solver": {"type": "pcg", "preconditioner": "amg", "tolerance": 1e-10},
+  "fixed": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}],
+  "loads": {"gravity": [0, 0, -9.81]},
+  "probes": [{"name": "top", "point": [0, 0, 0.1]}]})";
+
+long bases(const elasticity::ElasticModel& m) {
+    const auto& b = m.bases_built();
+    return b.p1 + b.q1 + b.polyhedral;
+}
+} // namespace
+
+class SimulationUndoJournal : public ::testing::TestWithParam<const char*> { };
+
+TEST_P(SimulationUndoJournal, AnUndoneCutPutsTheModelBackWithoutMakingACellAgain) {
+    // Decision 0070: the step after a cut explodes, and the undo takes the model back from its
+    // journal: the cells the cut replaced return and the appended ones go, with no basis made
+    // again; the model is then the one of a simulation that never cut, to the bit: DOFs,
+    // pattern, masses and the (linear) stiffness; and both step on alike.
+    // The undo compares the pattern it made around the reverted cells with a full build.
+    ::setenv("POLYCUT_CHECK_UNDO", "1", 1);
+    Simulation a(scene::parse_scene(GetParam())), b(scene::parse_scene(GetParam()));
+    a.step();
+    b.step();
+    auto& ia = SimulationTestPeer::impl(a);
+    const auto& ib = SimulationTestPeer::impl(b);
+    ASSERT_TRUE(ia.model && ib.model);
+    // a second cut in the same tick: the undo goes back past both
+    const Vec3 p(0.01, -0.2, -0.1), q(0.01, 0.2, -0.1), r(0.01, 0.2, 0.3), t(0.01, -0.2, 0.3);
+    ASSERT_TRUE(a.cut({ { p, q, r }, { p, r, t } }).topology_changed);
+    const Vec3 p2(-0.2, -0.012, -0.1), q2(0.2, -0.012, -0.1), r2(0.2, -0.012, 0.3),
+        t2(-0.2, -0.012, 0.3);
+    ASSERT_TRUE(a.cut({ { p2, q2, r2 }, { p2, r2, t2 } }).topology_changed);
+    EXPECT_GE(a.mesh_stats().components, 3); // (4 when neither cut is deferred)
+    const long made_by_cuts = bases(*ia.model);
+    pull_hard(a);
+    const StepReport report = a.step();
+    ASSERT_TRUE(report.cut_undone);
+    EXPECT_EQ(bases(*ia.model), made_by_cuts); // nothing made again (a rebuild makes every cell)
+    EXPECT_EQ(ia.model->undo_marks(), 0u);
+    EXPECT_EQ(a.mesh_stats().components, 1);
+    const elasticity::ElasticModel &ma = *ia.model, &mb = *ib.model;
+    ASSERT_EQ(ma.num_free_dofs(), mb.num_free_dofs());
+    EXPECT_EQ(ma.dof_map(), mb.dof_map());
+    EXPECT_EQ(ma.diagonal_slots(), mb.diagonal_slots());
+    EXPECT_EQ(ma.row_mass(), mb.row_mass());
+    elasticity::ElasticModel& wa = *ia.model;
+    elasticity::ElasticModel& wb = *SimulationTestPeer::impl(b).model;
+    SparseMatrix Ka = wa.make_matrix(), Kb = wb.make_matrix();
+    VecX fa, fb;
+    MatX3 x(Index(a.positions().size()), 3);
+    for (Index i = 0; i < x.rows(); ++i)
+        x.row(i) = a.positions()[std::size_t(i)].transpose();
+    wa.assemble(x, elasticity::ForceMode::Linear, &Ka, &fa);
+    wb.assemble(x, elasticity::ForceMode::Linear, &Kb, &fb);
+    ASSERT_EQ(Ka.nonZeros(), Kb.nonZeros());
+    for (Index k = 0; k <= Ka.outerSize(); ++k)
+        ASSERT_EQ(Ka.outerIndexPtr()[k], Kb.outerIndexPtr()[k]);
+    for (Index k = 0; k < Ka.nonZeros(); ++k) {
+        ASSERT_EQ(Ka.innerIndexPtr()[k], Kb.innerIndexPtr()[k]);
+        ASSERT_EQ(Ka.valuePtr()[k], Kb.valuePtr()[k]);
+    }
+    EXPECT_EQ(fa, fb);
+    EXPECT_EQ(a.state_hash(), b.state_hash());
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_FALSE(a.step().rolled_back);
+        EXPECT_FALSE(b.step().rolled_back);
+    }
+    double diff = 0;
+    for (std::size_t i = 0; i < b.positions().size(); ++i)
+        diff = std::max(diff, (a.positions()[i] - b.positions()[i]).norm());
+    const double sag = std::abs(b.probe_displacement("top").z());
+    EXPECT_GT(sag, 1e-4);
+    EXPECT_LT(diff, 1e-8 * sag); // the solves' tolerance (1e-10) and the restarted rotations
+    // and it cuts again as the first time
+    EXPECT_TRUE(a.cut({ { p, q, r }, { p, r, t } }).topology_changed);
+    EXPECT_EQ(a.mesh_stats().components, 2);
+    EXPECT_FALSE(a.step().rolled_back);
+    ::unsetenv("POLYCUT_CHECK_UNDO");
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    HexAndTetBlocks, SimulationUndoJournal, ::testing::Values(kBlock, kTetBlock));
 
 TEST(SimulationUndo, AnExplodingStepWithoutACutIsRolledBackAndReported) {
     Simulation a(scene::parse_scene(kBlock));

@@ -33,12 +33,12 @@ void ElasticModel::rebuild_mass() {
 void ElasticModel::update_mass(const std::vector<char>& affected) {
     const Index nn = m_mesh->num_nodes();
     if (affected.size() != std::size_t(nn) || m_node_offset.size() != m_cells.size() + 1
-        || m_mass.size() > nn || m_nodal) {
+        || m_nodal) {
         rebuild_mass();
         return;
     }
     ++m_cell_version;
-    const Index old = Index(m_mass.size());
+    const Index old = Index(m_mass.size()); // more than nn after an undo dropped nodes
     m_mass.conservativeResize(nn);
     for (Index n = old; n < nn; ++n)
         m_mass(n) = 0;

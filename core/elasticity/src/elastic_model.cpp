@@ -208,6 +208,7 @@ void ElasticModel::rebuild_topology(std::vector<Index> node_map) {
     std::vector<Index> all(std::size_t(m_mesh->num_cells()));
     std::iota(all.begin(), all.end(), Index(0));
     std::vector<ComputedCell> made = compute_detached(all); // may throw: nothing changed yet
+    forget_marks(); // nothing kept matches the cells after this
     m_previous_renumber_base = m_renumber_base;
     m_renumber_base = m_topology_version + 1; // the version rebuild_pattern() is about to make
     m_node_map = std::move(node_map);
@@ -257,6 +258,13 @@ void ElasticModel::update_cells(
     std::sort(todo.begin(), todo.end());
     todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
     std::vector<ComputedCell> made = compute_detached(todo);
+    // The undo journal (elastic_undo.cpp), while a mark is open: this update, to run backwards.
+    JournalEntry* entry = nullptr;
+    if (!m_marks.empty()) {
+        entry = &m_journal.emplace_back();
+        entry->cells_before = m_cells.size();
+        entry->cell_map = cell_map;
+    }
     // For the pattern: nodes whose set of cells changes, and each cell's id at the last build
     // when it is the same cell.
     std::vector<char> affected(n_dofs / 3, 0);
@@ -278,6 +286,8 @@ void ElasticModel::update_cells(
             const Index to = cell_map[c];
             if (to == kNone || std::size_t(to) >= n_cells) {
                 touch(m_cells[c].nodes); // merged away
+                if (entry)
+                    entry->removed.push_back(save_cell(c, true));
                 continue;
             }
             old_cell[std::size_t(to)] = Index(c);
@@ -286,6 +296,8 @@ void ElasticModel::update_cells(
             p1[std::size_t(to)] = m_p1[c];
             extent2[std::size_t(to)] = c < m_rest_extent2.size() ? m_rest_extent2[c] : 0.0;
         }
+        for (std::size_t c = cell_map.size(); entry && c < m_cells.size(); ++c)
+            entry->removed.push_back(save_cell(c, true)); // past the map: dropped
         m_cells = std::move(cells);
         m_rotation = std::move(rotation);
         m_p1 = std::move(p1);
@@ -314,6 +326,10 @@ void ElasticModel::update_cells(
                 ? m_rotation[std::size_t(parent)]
                 : Mat3::Identity();
     }
+    if (entry)
+        for (Index c : todo)
+            if (cell_map.empty() ? std::size_t(c) < old_cells : kept[std::size_t(c)] != 0)
+                entry->replaced.push_back(save_cell(std::size_t(c), false));
     commit_cells(todo, std::move(made));
     if (topology)
         build_pattern(affected, std::move(old_cell));

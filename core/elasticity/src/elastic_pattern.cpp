@@ -51,11 +51,12 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     std::vector<std::uint8_t> used(nn, 0);
     for (Index i : m_node_list)
         used[std::size_t(i)] = 1;
-    // Incremental when node ids were kept (appended nodes count as affected) and the fixed DOFs
-    // of the old nodes too (update_cells() keeps their mask): an unaffected node then has the
+    // Incremental when node ids were kept (appended nodes count as affected; nodes dropped from
+    // the end, an undo's, leave affected every node they were a neighbour of) and the fixed DOFs
+    // of the other nodes too (update_cells() keeps their mask): an unaffected node then has the
     // same cells, neighbours and free axes as before.
-    const bool incremental = affected.size() == nn && old_cell.size() == n_cells && n_old <= nn
-        && m_dof_map.size() == 3 * n_old;
+    const bool incremental
+        = affected.size() == nn && old_cell.size() == n_cells && m_dof_map.size() == 3 * n_old;
     for (std::size_t j = n_old; incremental && j < nn; ++j)
         affected[j] = 1;
     if (!incremental) {
@@ -105,8 +106,10 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         new_of_old.assign(std::size_t(old_num_free), kNone);
         for (std::size_t k = 0; k < old_dof_map.size(); ++k)
             if (const Index r = old_dof_map[k]; r != kNone) {
-                new_of_old[std::size_t(r)] = m_dof_map[k];
-                same_numbering = same_numbering && m_dof_map[k] == r;
+                // a dropped node's DOFs (k past the end) are in no unaffected node's column
+                const Index now = k < m_dof_map.size() ? m_dof_map[k] : kNone;
+                new_of_old[std::size_t(r)] = now;
+                same_numbering = same_numbering && (now == r || k >= m_dof_map.size());
             }
     }
 

@@ -96,7 +96,6 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
     // cell the basis cannot handle), the mesh and the state go back to what they were and the
     // error is reported; the simulation keeps running on the uncut mesh.
     const cut::CutReport& report = result.report;
-    cut_model_updated = false; // the model follows the cut mesh (an undo rebuilds it)
     try {
         if (result.status == cut::CutStatus::Failed)
             throw Error("cut", result.reason);
@@ -116,7 +115,7 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
                 summary.fragments_pinned = pin_free_fragments(report.changed_cells);
         }
     } catch (const std::exception& e) {
-        restore(before, false, !cut_model_updated);
+        restore(before, false);
         summary = CutSummary { .status = CutSummary::Status::Failed,
             .reason = std::string("failed and was undone, the mesh is unchanged: ") + e.what(),
             .triangles_skipped = summary.triangles_skipped,
@@ -201,7 +200,6 @@ void Simulation::Impl::check_model_growth() const {
 
 void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
     if (dg) {
-        cut_model_updated = true; // made anew: an undo makes it again too
         // DG (dg_part.hpp): a model on the cut mesh, every cell's polynomial carried over.
         dg = dg_after_cut(*dg, scene, mesh, report, state.x, state.v);
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
@@ -291,7 +289,6 @@ void Simulation::Impl::resize_state_after_cut(const cut::CutReport& report) {
         model->rebuild_topology(report.node_map); // the solver's hierarchy follows the map
     else
         model->update_cells(report.changed_cells, report.cell_map);
-    cut_model_updated = true;
     model->set_fixed_dofs(node_fixed_mask);
     static_solved = false;
     sync_positions();
@@ -309,10 +306,11 @@ std::unique_ptr<Simulation::Impl::Snapshot> Simulation::Impl::take_snapshot() {
     snap->swept_area = swept_area;
     snap->topology = topology;
     snap->topology_version = topology_version;
+    snap->model_mark = model && !dg ? model->mark_undo() : 0;
     return snap; // the mesh: the cut pipeline's undo mirror (CutPipeline::undo)
 }
 
-void Simulation::Impl::restore(const Snapshot& snap, bool published, bool model_current) {
+void Simulation::Impl::restore(const Snapshot& snap, bool published) {
     if (!cutting)
         throw Error("cut", "the mesh before the cut is no longer known");
     // The cutters' adjacency and remembered sweeps refer to the failed edit: the undo forgets
@@ -332,8 +330,13 @@ void Simulation::Impl::restore(const Snapshot& snap, bool published, bool model_
     if (dg) {
         dg = make_dg_part(scene, mesh); // the restored mesh's cells, in their old order
         integrator = std::make_unique<integrate::Integrator>(*dg->model, integrator_options(scene));
-    } else if (!model_current) {
-        model->rebuild_topology();
+    } else if (model) {
+        // The cells the cuts replaced come back from the model's journal, the appended ones go
+        // and the pattern is made again around them: no basis made again, the node ids kept
+        // (the AMG hierarchy follows by a remap). Also when the model never followed the cut (it
+        // failed before the update): then nothing changes.
+        if (!model->revert_to_mark(snap.model_mark))
+            model->rebuild_topology();
         model->set_fixed_dofs(node_fixed_mask);
     }
     static_solved = false;

@@ -98,6 +98,8 @@ struct Simulation::Impl {
         double swept_area = 0;
         surface::Topology topology;
         std::uint64_t topology_version = 0;
+        /// The model's undo mark (ElasticModel::mark_undo) of the moment; 0: none (DG).
+        std::uint64_t model_mark = 0;
     };
     /// The state a cut may change, copied into the buffers of a snapshot no longer needed
     /// (`spare`), so the copy writes into memory already mapped.
@@ -106,13 +108,13 @@ struct Simulation::Impl {
     /// The state before the first cut since the last step: kept until that step has shown the
     /// cut mesh is mechanically sound; a step that fails right after a cut undoes the cut too.
     std::unique_ptr<Snapshot> cut_undo;
-    /// Puts the mesh (CutPipeline::undo) and state back as they were and rebuilds the model. The
+    /// Puts the mesh (CutPipeline::undo), state and model back as they were: the model from its
+    /// undo journal (the cells the cuts replaced, decision 0070), rebuilt only when the journal
+    /// cannot follow (a renumbering since). The
     /// surface topology and its version come back too when nothing was published since the snapshot
     /// (`published` false: a failed cut changes nothing a client can see); otherwise the old
     /// topology gets a new version, so clients that saw the cut fetch it again.
-    /// `model_current`: the model never followed the undone cut (it failed before the update),
-    /// so it still describes the restored mesh and is kept (no O(mesh) rebuild).
-    void restore(const Snapshot& snap, bool published = false, bool model_current = false);
+    void restore(const Snapshot& snap, bool published = false);
     /// Static scenes: fixes every connected piece without a fixed DOF at one boundary face;
     /// returns how many pieces it fixed.
     int fix_free_pieces();
@@ -134,9 +136,6 @@ struct Simulation::Impl {
     double swept_area = 0; ///< rest area swept inside the uncut tissue by applied cuts [m^2]
     /// Most inverted tets around one cut call since the last step (its report warns).
     std::size_t cut_inverted = 0;
-    /// The model was updated to the cut mesh of the cut being settled (settle_cut): its undo
-    /// must rebuild the model; false when the update refused a cell before changing anything.
-    bool cut_model_updated = false;
     /// Sweep triangles skipped since the last step as mapped through a fold (CutResult::stretched).
     std::size_t cut_stretched = 0;
     /// Rest area swept by cuts that were undone: failed cuts and those a failed step took back

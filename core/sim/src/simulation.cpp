@@ -304,6 +304,8 @@ StepReport Simulation::step() {
         s.spare = std::move(s.cut_undo); // its buffers serve the next cut's undo copy
     if (s.cutting && !r.rolled_back)
         s.cutting->accept(); // the cuts so far made a sound model: the undo mirror takes them
+    if (s.model)
+        s.model->forget_marks(); // no snapshot of before this step can be restored any more
     s.cut_cells_left = s.scene.cutting.max_cells_per_tick;
     ++s.tick;
     s.time += dt;

@@ -131,6 +131,23 @@ public:
     void rebuild_topology(std::vector<Index> node_map = {});
     /// Replaces the fixed-DOF mask (3#N) and rebuilds the DOF numbering and pattern.
     void set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs);
+
+    /// The undo of cut edits without a rebuild (issue 12 item 5, issue 14 item 1; decision
+    /// 0070). mark_undo() opens a mark and returns its serial, noting the cell and node counts
+    /// and the fixed DOFs of the moment; while a mark is open, each update_cells() is journaled
+    /// with what running it backwards needs (the data of the cells it replaced or merged away,
+    /// its cell map). revert_to_mark() puts the model back as it was at that mark once the mesh
+    /// is back too (CutPipeline::undo): the replaced and merged cells return, the appended ones
+    /// go, the pattern is made again around their nodes only, and the node ids stay
+    /// (nodes_kept_since(): a preconditioner follows by a remap). It drops that mark and the
+    /// later ones. It returns false when the mark is unknown (forgotten, or dropped by a
+    /// rebuild_topology() since) or the cells it comes to are not the mesh's: the caller must
+    /// then call rebuild_topology(). forget_marks(): the edits are accepted.
+    std::uint64_t mark_undo();
+    bool revert_to_mark(std::uint64_t mark);
+    void forget_marks();
+    /// Marks held (for tests).
+    std::size_t undo_marks() const { return m_marks.size(); }
     /// Incremented whenever the pattern (and DOF numbering) changes.
     std::uint64_t topology_version() const override { return m_topology_version; }
     /// Whether the node ids are the same as at topology version `version` (cuts that only
@@ -269,6 +286,34 @@ private:
     /// The volumetric term of VolumetricRule::NodalAverage (null otherwise); its patches widen
     /// the pattern to two rings (nodal_dilatation.hpp).
     std::unique_ptr<detail::NodalDilatation> m_nodal;
+    /// The undo journal (mark_undo()): one entry per update_cells() since the oldest mark, with
+    /// what it needs to be run backwards: the cell count before it, its cell map, and the data
+    /// of the cells it replaced (by id after its cell map) and of those it merged away (old id).
+    struct SavedCell {
+        Index cell = kNone;
+        ComputedCell data;
+    };
+    struct JournalEntry {
+        std::size_t cells_before = 0;
+        std::vector<Index> cell_map;
+        std::vector<SavedCell> removed;
+        std::vector<SavedCell> replaced;
+    };
+    /// Per mark: the counts and fixed DOFs then and the journal entries after it.
+    struct UndoMark {
+        std::uint64_t serial = 0;
+        std::size_t cells = 0;
+        std::size_t nodes = 0;
+        std::vector<std::uint8_t> fixed;
+        std::size_t entry_begin = 0;
+    };
+    std::vector<UndoMark> m_marks;
+    std::vector<JournalEntry> m_journal;
+    std::uint64_t m_next_mark = 1;
+    /// Cell c's data, copied (or moved) out for the journal.
+    SavedCell save_cell(std::size_t c, bool move);
+    /// POLYCUT_CHECK_UNDO=1: the pattern revert_to_mark() made equals a full build (throws).
+    void check_pattern_against_rebuild();
 };
 
 } // namespace polycut::elasticity
