@@ -336,6 +336,7 @@ void SnapCutter::end_sweep() {
     s.pending.clear();
     s.recent.clear();
     s.swept.clear();
+    s.swept_memo.clear();
 }
 
 CutReport SnapCutter::finish_sweep() {

@@ -64,6 +64,18 @@ struct State {
     /// Every triangle of the current sweep (cleared by end_sweep): where the blade has passed,
     /// for deciding that a held-back face lies behind the blade.
     std::vector<SweepPlane> swept;
+    /// swept_around()'s answers (snap_dissect.cpp) for a node and clearance: a memo of a
+    /// function of (x, r) and `swept`, which only grows until end_sweep() clears both. A yes
+    /// stays yes; a no is asked again only of the triangles swept since, and only when one of
+    /// them passes near x. Keyed by the edge it was asked for; the key only finds the entry, x
+    /// and r must match.
+    struct SweptMemo {
+        Vec3 x = Vec3::Zero();
+        double r = 0;
+        std::size_t upto = 0; ///< swept[0, upto) answered for
+        bool yes = false;
+    };
+    mutable std::unordered_map<std::uint64_t, SweptMemo> swept_memo;
     std::vector<geometry::Aabb> box; ///< rest bounds per tet
     std::vector<char> box_ok;
     /// Signed rest volume per tet [m^3] as of the last end(): end() recomputes the changed tets
