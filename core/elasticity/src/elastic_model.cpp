@@ -329,7 +329,8 @@ void ElasticModel::update_cells(
     if (entry)
         for (Index c : todo)
             if (cell_map.empty() ? std::size_t(c) < old_cells : kept[std::size_t(c)] != 0)
-                entry->replaced.push_back(save_cell(std::size_t(c), false));
+                entry->replaced.push_back(
+                    save_cell(std::size_t(c), true)); // commit_cells() refills it
     commit_cells(todo, std::move(made));
     if (topology)
         build_pattern(affected, std::move(old_cell));
