@@ -4,8 +4,15 @@
 // require_closed and must return a surface that keeps its documented promises or throw a
 // FileError naming the file; anything else (another exception, a crash, a sanitizer report)
 // is a finding. A small surface read without require_closed also goes through the PMP repair,
-// whose result must be closed or an InputError. No Mesh_3 here: it is seconds per input.
+// whose result must be closed or an InputError. A tiny one (at most kMaxWrapTriangles) also
+// goes through the Alpha_wrap_3 wrap at a coarse alpha (a quarter of its bounding box), whose
+// result must be closed or an InputError, and that wrap through Mesh_3 at a coarse size without
+// optimisers, which must give tets of positive volume or throw InputError / MeshError: both stay
+// in milliseconds at that size, where the organ-sized runs of the scenes take seconds.
 #include "polycut/common/error.hpp"
+#include "polycut/geometry/polyhedron.hpp"
+#include "polycut/mesh/mesh.hpp"
+#include "polycut/meshing/options.hpp"
 #include "polycut/meshing/repair.hpp"
 #include "polycut/meshing/surface.hpp"
 
@@ -27,6 +34,8 @@ using polycut::meshing::SurfaceMesh;
 constexpr std::size_t kMaxInputBytes = 64 * 1024;
 // PMP repair (hole filling, self-intersection removal) stays in milliseconds up to here.
 constexpr std::size_t kMaxRepairTriangles = 300;
+// The wrap and Mesh_3 of a surface this small, at a quarter of its bounding box, too.
+constexpr std::size_t kMaxWrapTriangles = 40;
 
 [[noreturn]] void finding(const std::string& what) {
     std::fprintf(stderr, "fuzz_surface_readers: %s\n", what.c_str());
@@ -69,6 +78,46 @@ void check_repair(const SurfaceMesh& s) {
     }
 }
 
+/// The wrap of a tiny surface at a quarter of its bounding box (a clean surface or InputError),
+/// and that wrap's tets (positive volumes, or InputError / MeshError).
+void check_wrap_and_mesh(const SurfaceMesh& s) {
+    polycut::geometry::Aabb box;
+    for (const auto& p : s.positions)
+        box.extend(p);
+    const double cell = box.diagonal() / 4;
+    polycut::meshing::RepairOptions options;
+    options.mode = polycut::meshing::RepairMode::Wrap;
+    SurfaceMesh wrapped;
+    try {
+        wrapped = polycut::meshing::repair_surface(s, options, cell);
+        check_surface(wrapped, true, "repair_surface (wrap)");
+    } catch (const polycut::InputError&) {
+        return; // refused (a flat or degenerate input, a size out of range): documented
+    } catch (const std::exception& e) {
+        finding(std::string("the wrap threw something else than InputError: ") + e.what());
+    }
+    polycut::meshing::MeshingOptions mo;
+    mo.cell_size = cell;
+    mo.perturb = false;
+    mo.exude = false;
+    mo.refine_time_limit = 2; // under libFuzzer's -timeout: a refinement that does not finish
+                              // must end in the documented InputError, not a hang
+    try {
+        const polycut::mesh::Mesh m = polycut::meshing::mesh_surface(wrapped, mo);
+        if (m.num_cells() == 0)
+            finding("mesh_surface returned no cell");
+        for (polycut::Index c = 0; c < m.num_cells(); ++c)
+            if (!(m.cell_volume(c) > 0))
+                finding(
+                    "mesh_surface returned a tet of volume " + std::to_string(m.cell_volume(c)));
+    } catch (const polycut::InputError&) {
+    } catch (const polycut::MeshError&) {
+    } catch (const std::exception& e) {
+        finding(std::string("mesh_surface threw something else than InputError or MeshError: ")
+            + e.what());
+    }
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -97,6 +146,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                     s.triangles.size());
             if (!require_closed && s.triangles.size() <= kMaxRepairTriangles)
                 check_repair(s);
+            if (!require_closed && s.triangles.size() <= kMaxWrapTriangles)
+                check_wrap_and_mesh(s);
         } catch (const polycut::FileError& e) {
             if (e.path() != path)
                 finding("FileError names '" + e.path() + "', not the file read: " + e.what());

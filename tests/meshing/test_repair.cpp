@@ -10,6 +10,7 @@
 #include "polycut/meshing/surface.hpp"
 #include "polycut/meshing/surface_file.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -365,4 +366,60 @@ TEST(Repair, SubnormalCollapsedCubeIsRefusedOrRepairedWithoutCrashing) {
                 << e.what();
         }
     }
+}
+
+// The wrap of an open box (its five walls have no thickness) at a quarter of its size is a
+// closed shell ~3 cm thick around 1 m walls: Mesh_3's refinement of it at that size did not end
+// (minutes, found by tests/fuzz/fuzz_surface_readers). It now stops at
+// MeshingOptions::refine_time_limit with an InputError that names the cell size, and the same
+// shell at a smaller size meshes (or fails) the same way, never by hanging.
+TEST(Repair, AWrapThatMesh3CannotRefineEndsInAnErrorNotAHang) {
+    SurfaceMesh open = box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    open.triangles.erase(open.triangles.begin(), open.triangles.begin() + 2); // no bottom
+    RepairOptions ro;
+    ro.mode = RepairMode::Wrap;
+    const SurfaceMesh wrapped = repair_surface(open, ro, 0.433);
+    ASSERT_TRUE(closed_surface_problem(wrapped).empty());
+    MeshingOptions mo;
+    mo.cell_size = 0.433;
+    mo.perturb = false;
+    mo.exude = false;
+    mo.refine_time_limit = 1.0;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+        (void)mesh_surface(wrapped, mo);
+        // a CGAL version that can mesh it is fine too
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.where(), "cell_size");
+        EXPECT_NE(std::string(e.what()).find("CGAL Mesh_3 could not mesh"), std::string::npos)
+            << e.what();
+    }
+    const double s
+        = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(s, 60.0); // 1 s of refinement and the clean-up; before, it did not end
+}
+
+// A soup whose triangles underflow (corners at ~1e-312 m, the fuzz corpus'
+// regression_pmp_smoothing_nan): Alpha_wrap_3 projected onto them in doubles, got NaN, and GMP
+// aborted the process with SIGFPE. Those triangles are left out of the wrap now; a soup of only
+// such triangles is refused, and coordinates past 1e100 m too.
+TEST(Repair, TheWrapLeavesOutTrianglesThatUnderflowAndRefusesFarCoordinates) {
+    SurfaceMesh s = box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    s.positions[0] = Vec3(-1.3e-312, 1.3e-312, 2e-317);
+    s.positions[1] = Vec3(4.45e-308, 0, 0);
+    s.positions[2] = Vec3(-1.3e-312, -3e-322, -1.3e-312);
+    s.triangles.push_back({ 0, 1, 2 }); // all three corners within 1e-307 of the origin
+    RepairOptions ro;
+    ro.mode = RepairMode::Wrap;
+    try {
+        const SurfaceMesh w = repair_surface(s, ro, 0.25);
+        EXPECT_TRUE(closed_surface_problem(w).empty());
+    } catch (const InputError&) {
+        // refused with a reason: fine; what it must not do is abort
+    }
+    SurfaceMesh tiny = s;
+    tiny.triangles = { { 0, 1, 2 } };
+    EXPECT_THROW(repair_surface(tiny, ro, 0.25), InputError);
+    SurfaceMesh far = box(Vec3(0, 0, 0), Vec3(1e101, 1, 1));
+    EXPECT_THROW(repair_surface(far, ro, 0.25), InputError);
 }

@@ -44,7 +44,7 @@ mesh::Mesh mesh_implicit(
     namespace p = CGAL::parameters;
     const Domain domain = Domain::create_implicit_mesh_domain(
         value, Kernel::Sphere_3(c, R * R), p::relative_error_bound = 1e-6, p::p_rng = &rng);
-    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options, progress);
+    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options, 8 * R * R * R, progress);
     mesh::Mesh m = detail::to_mesh(c3t3, "implicit shape");
     if (progress)
         progress("quality: " + to_string(tet_quality(m)));

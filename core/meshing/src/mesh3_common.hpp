@@ -8,17 +8,23 @@
 
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_error_code.h>
 #include <CGAL/Random.h>
+#include <CGAL/exceptions.h>
 #include <CGAL/exude_mesh_3.h>
 #include <CGAL/make_mesh_3.h>
 #include <CGAL/optimize_mesh_3.h>
 #include <CGAL/perturb_mesh_3.h>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace polycut::meshing::detail {
@@ -29,12 +35,56 @@ inline double ms_since(std::chrono::steady_clock::time_point start) {
         .count();
 }
 
+/// Vertices Mesh_3's refinement may insert for a domain inside a box of `box_volume` [m^3] at
+/// `cell_size` [m]: 20 x box_volume / cell_size^3 + 100,000. A well-posed domain takes ~0.4 x
+/// box_volume / cell_size^3 (organ_20k: 18k vertices, 48k box cells), so only a refinement that
+/// does not converge reaches it: a surface with parts much thinner than the cell size (the
+/// wrap of an open box at a quarter of its size refined for minutes; tests/fuzz
+/// surface_readers).
+inline std::size_t mesh_3_vertex_cap(double box_volume, double cell_size) {
+    const double cells = box_volume / (cell_size * cell_size * cell_size);
+    return std::size_t(std::min(20 * (std::isfinite(cells) ? cells : 0.0), 1e8)) + 100000;
+}
+
+/// Sets `stop` once `seconds` have passed, unless destroyed first (Mesh_3's refinement checks
+/// it between steps: CGAL's pointer_to_stop_atomic_boolean).
+class StopWatchdog {
+public:
+    StopWatchdog(std::atomic<bool>& stop, double seconds)
+        : m_thread([this, &stop, seconds] {
+            std::unique_lock<std::mutex> lock(m_mutex);
+            if (!m_done.wait_for(
+                    lock, std::chrono::duration<double>(seconds), [&] { return m_over; }))
+                stop.store(true, std::memory_order_release);
+        }) { }
+    ~StopWatchdog() {
+        {
+            const std::lock_guard<std::mutex> lock(m_mutex);
+            m_over = true;
+        }
+        m_done.notify_all();
+        m_thread.join();
+    }
+    StopWatchdog(const StopWatchdog&) = delete;
+    StopWatchdog& operator=(const StopWatchdog&) = delete;
+
+private:
+    std::mutex m_mutex;
+    std::condition_variable m_done;
+    bool m_over = false;
+    std::thread m_thread; // last: started once the rest is made
+};
+
 /// Runs Mesh_3 on a domain: refinement, then the optimisers the options select (lloyd, odt,
 /// perturb, exude, in that order, without time limits so that the mesh does not depend on
 /// speed). Every random choice CGAL makes comes from `rng` (the domain's generator, passed by
 /// the caller) or from the default generator, reseeded here. Reports each phase to `sink`.
+/// `box_volume` [m^3] bounds the refinement (mesh_3_vertex_cap). Throws InputError (where
+/// "cell_size") when the refinement reaches that cap or CGAL reports a failure (an assertion
+/// such as "a facet is not in conflict with its refinement point", seen on thin wraps).
 template <class C3t3, class Domain>
-C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o, const ProgressSink& sink = {}) {
+C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o, double box_volume,
+    const ProgressSink& sink = {}) {
     using Criteria = CGAL::Mesh_criteria_3<typename C3t3::Triangulation>;
     namespace p = CGAL::parameters;
     CGAL::get_default_random() = CGAL::Random(o.seed);
@@ -52,8 +102,38 @@ C3t3 run_mesh_3(const Domain& domain, const MeshingOptions& o, const ProgressSin
     // manifold(): the boundary of the cells in the complex is a 2-manifold, which the cutter
     // and validate() rely on.
     auto start = std::chrono::steady_clock::now();
-    C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, p::manifold(), p::no_lloyd(), p::no_odt(),
-        p::no_perturb(), p::no_exude());
+    const std::size_t cap = mesh_3_vertex_cap(box_volume, size);
+    CGAL::Mesh_error_code code = CGAL::CGAL_MESH_3_NO_ERROR;
+    const auto failed = [&](const std::string& what) {
+        return InputError("cell_size",
+            "CGAL Mesh_3 could not mesh this domain at cell_size " + std::to_string(size)
+                + " m: " + what
+                + ". A surface with parts much thinner than the cell size (a wrap of an open "
+                  "or thin-walled surface) does this: a smaller cell_size, or a wrap with a "
+                  "larger offset, may mesh it");
+    };
+    const double expected = 0.4 * box_volume / (size * size * size);
+    const double seconds = o.refine_time_limit > 0
+        ? o.refine_time_limit
+        : 10 + 1e-3 * (std::isfinite(expected) ? std::min(expected, 1e9) : 0.0);
+    std::atomic<bool> stop { false };
+    C3t3 c3t3;
+    try {
+        const StopWatchdog watchdog(stop, seconds);
+        c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, p::manifold(), p::no_lloyd(), p::no_odt(),
+            p::no_perturb(), p::no_exude(),
+            p::mesh_3_options(p::maximal_number_of_vertices = cap, p::pointer_to_error_code = &code,
+                p::pointer_to_stop_atomic_boolean = &stop));
+    } catch (const CGAL::Failure_exception& e) {
+        const std::string message = e.message().empty() ? e.expression() : e.message();
+        throw failed("CGAL failed (" + message + ")");
+    }
+    if (code == CGAL::CGAL_MESH_3_MAXIMAL_NUMBER_OF_VERTICES_REACHED)
+        throw failed("the refinement did not converge (stopped at " + std::to_string(cap)
+            + " vertices, 20 x the bounding box volume over cell_size^3 + 100,000)");
+    if (code == CGAL::CGAL_MESH_3_STOPPED)
+        throw failed("the refinement did not finish in " + std::to_string(seconds)
+            + " s (10 s + 1 ms per expected vertex, MeshingOptions::refine_time_limit)");
     report("refine", c3t3, start);
     if (o.lloyd) {
         start = std::chrono::steady_clock::now();

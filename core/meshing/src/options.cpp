@@ -23,6 +23,8 @@ void check_options(const MeshingOptions& o) {
         throw InputError("options.feature_angle", "feature angle must be finite");
     if (!(o.sliver_bound >= 0 && o.sliver_bound < 60))
         throw InputError("options.sliver_bound", "sliver bound must be in [0, 60) degrees");
+    if (std::isnan(o.refine_time_limit))
+        throw InputError("options.refine_time_limit", "refine time limit must be a number");
 }
 
 void select_optimizers(MeshingOptions& o, const std::vector<std::string>& names) {

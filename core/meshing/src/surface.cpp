@@ -9,6 +9,7 @@
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
 #include <CGAL/Surface_mesh.h>
+#include <Eigen/Geometry>
 #include <cstddef>
 
 namespace polycut::meshing {
@@ -38,7 +39,10 @@ mesh::Mesh detail::mesh_prepared_surface(
     Domain domain(poly, &rng);
     if (options.feature_angle > 0)
         domain.detect_features(options.feature_angle);
-    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options, sink);
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : s.positions)
+        box.extend(p);
+    const C3t3 c3t3 = detail::run_mesh_3<C3t3>(domain, options, box.volume(), sink);
     return detail::to_mesh(c3t3, "surface");
 }
 

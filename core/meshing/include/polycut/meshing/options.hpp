@@ -41,6 +41,12 @@ struct MeshingOptions {
     /// as sharp features [deg]; <= 0 disables feature detection.
     double feature_angle = 60;
 
+    /// Wall time Mesh_3's refinement may take before it is stopped with an InputError [s]; <= 0:
+    /// 10 s + 1 ms per expected vertex (0.4 x the bounding box volume / cell_size^3), about
+    /// 100 x what a refinement that converges takes. Some surfaces much thinner than the cell
+    /// size (the wrap of an open box at a quarter of its size) refine for ever otherwise.
+    double refine_time_limit = 0;
+
     /// facet_distance with the default applied [m].
     double effective_facet_distance() const {
         return facet_distance > 0 ? facet_distance : cell_size / 10;
