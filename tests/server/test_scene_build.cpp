@@ -203,6 +203,38 @@ TEST_F(SceneBuildTest, AFailedBuildLeavesTheOldSceneUnchanged) {
     EXPECT_EQ(client.ok<RunState>(StepParams { 2 }).tick, 5);
 }
 
+TEST_F(SceneBuildTest, AHostileSurfaceFailsItsBuildAndTheServerGoesOn) {
+    // The fuzz corpus' regression_pmp_smoothing_nan (a unit cube with four corners collapsed to
+    // ~1e-312 m) as OBJ text, wrapped: Alpha_wrap_3 once computed NaN on its underflowing
+    // triangles and GMP aborted the process with SIGFPE (polycut-run exited 136). Now its
+    // build fails with a SceneError that names the cell size, and the old scene steps on.
+    std::ofstream(dir.file("underflow.obj"))
+        << "v -1.3368573483081216e-312 1.3474673275742093e-312 2.0560719715315978e-317\n"
+           "v 4.4501477170144028e-308 0 0\n"
+           "v -1.3474673272629479e-312 -3.1126135687998532e-322 -1.3474673275742093e-312\n"
+           "v 1.3474673275742093e-312 8.1270241468235e-317 0\n"
+           "v 2.3493773303280651e-153 6.0134700169990685e-154 6.0134700169990685e-154\n"
+           "v 6.0134700169990685e-154 6.8170154978712552e-313 1\n"
+           "v 0 1.0000000000000004 1\n"
+           "v 1 1 1\n"
+           "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    const std::string hostile = R"({"name": "hostile",
+      "geometry": {"type": "surface_file", "path": "underflow.obj", "cell_size": 0.25,
+                   "repair": "wrap"},
+      "method": "tet",
+      "material": {"youngs_modulus": 3e4, "poisson_ratio": 0.45, "density": 1000},
+      "integrator": {"type": "implicit_euler", "dt": 0.0166667}})";
+    RunningServer server(test_config(dir, true));
+    Client client(context, server.control());
+    client.ok<RunState>(StepParams { 2 });
+    const Stats before = client.stats();
+    const RpcError e = client.error(inline_load(hostile));
+    EXPECT_EQ(e.code, ErrorCode::SceneError);
+    EXPECT_EQ(e.pointer.rfind("/params/scene", 0), 0u) << e.pointer;
+    EXPECT_EQ(client.stats().state_hash, before.state_hash);
+    EXPECT_EQ(client.ok<RunState>(StepParams { 2 }).tick, 4);
+}
+
 TEST_F(SceneBuildTest, CommandsDuringABuildReachTheOldScene) {
     RunningServer server(test_config(dir, true)); // paused: ticks only on `step`
     Client client(context, server.control());
