@@ -142,6 +142,7 @@ TEST_P(SimulationUndoJournal, AnUndoneCutPutsTheModelBackWithoutMakingACellAgain
         t2(-0.2, -0.012, 0.3);
     ASSERT_TRUE(a.cut({ { p2, q2, r2 }, { p2, r2, t2 } }).topology_changed);
     EXPECT_GE(a.mesh_stats().components, 3); // (4 when neither cut is deferred)
+    EXPECT_EQ(ia.model->undo_marks(), 1u); // only the tick's first snapshot stays restorable
     const long made_by_cuts = bases(*ia.model);
     pull_hard(a);
     const StepReport report = a.step();

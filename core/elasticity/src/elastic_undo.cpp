@@ -24,6 +24,12 @@ std::uint64_t ElasticModel::mark_undo() {
     return m_marks.back().serial;
 }
 
+void ElasticModel::drop_mark(std::uint64_t serial) {
+    std::erase_if(m_marks, [&](const UndoMark& m) { return m.serial == serial; });
+    if (m_marks.empty())
+        m_journal.clear();
+}
+
 void ElasticModel::forget_marks() {
     m_marks.clear();
     m_journal.clear();

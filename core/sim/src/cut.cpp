@@ -63,7 +63,7 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
     summary.cells_after = int(s.mesh.num_cells());
     summary.cut_ms = watch.ms();
     if (before)
-        s.spare = std::move(before);
+        s.discard(std::move(before));
     return summary;
 }
 
@@ -125,8 +125,10 @@ void Simulation::Impl::settle_cut(cut::CutResult& result, CutSummary& summary, S
     // Until the next step shows the cut model is sound, the state before the first cut of this
     // tick stays at hand (Simulation::step undoes the cuts when that step fails; the pipeline
     // keeps the mesh of that moment, CutPipeline::undo_all).
-    if (summary.topology_changed && !cut_undo)
+    if (summary.topology_changed && !cut_undo) {
         cut_undo = std::make_unique<Snapshot>(std::move(before)); // before's buffers move along
+        before.model_mark = 0; // now cut_undo's
+    }
 }
 
 void Simulation::Impl::check_cut_cells(const std::vector<Index>& cells) const {
@@ -171,7 +173,7 @@ CutSummary Simulation::end_stroke() {
     if (before)
         s.settle_cut(result, summary, *before);
     if (before)
-        s.spare = std::move(before);
+        s.discard(std::move(before));
     if (summary.status == CutSummary::Status::Failed)
         summary.reason = "finishing the stroke " + summary.reason;
     // The solver's hierarchy was carried over the stroke's cuts: set it up again now that the
@@ -308,6 +310,14 @@ std::unique_ptr<Simulation::Impl::Snapshot> Simulation::Impl::take_snapshot() {
     snap->topology_version = topology_version;
     snap->model_mark = model && !dg ? model->mark_undo() : 0;
     return snap; // the mesh: the cut pipeline's undo mirror (CutPipeline::undo)
+}
+
+void Simulation::Impl::discard(std::unique_ptr<Snapshot> snap) {
+    // Not restorable any more (cut_undo, the tick's first snapshot, is): its model mark goes,
+    // the journal after it stays for cut_undo's (at most two marks are held at a time).
+    if (model && snap->model_mark != 0)
+        model->drop_mark(snap->model_mark);
+    spare = std::move(snap); // its buffers serve the next cut's undo copy
 }
 
 void Simulation::Impl::restore(const Snapshot& snap, bool published) {

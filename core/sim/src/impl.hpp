@@ -104,6 +104,9 @@ struct Simulation::Impl {
     /// The state a cut may change, copied into the buffers of a snapshot no longer needed
     /// (`spare`), so the copy writes into memory already mapped.
     std::unique_ptr<Snapshot> take_snapshot();
+    /// A snapshot that will not be restored: its model mark is dropped and its buffers kept as
+    /// `spare`.
+    void discard(std::unique_ptr<Snapshot> snap);
     std::unique_ptr<Snapshot> spare;
     /// The state before the first cut since the last step: kept until that step has shown the
     /// cut mesh is mechanically sound; a step that fails right after a cut undoes the cut too.

@@ -145,6 +145,9 @@ public:
     /// then call rebuild_topology(). forget_marks(): the edits are accepted.
     std::uint64_t mark_undo();
     bool revert_to_mark(std::uint64_t mark);
+    /// Drops one mark that will not be reverted to, keeping the journal for the earlier marks
+    /// (a cut's snapshot discarded after the cut: only the tick's first one stays restorable).
+    void drop_mark(std::uint64_t mark);
     void forget_marks();
     /// Marks held (for tests).
     std::size_t undo_marks() const { return m_marks.size(); }
