@@ -107,9 +107,12 @@ void check_wrap_and_mesh(const SurfaceMesh& s) {
         if (m.num_cells() == 0)
             finding("mesh_surface returned no cell");
         for (polycut::Index c = 0; c < m.num_cells(); ++c)
-            if (!(m.cell_volume(c) > 0))
-                finding(
-                    "mesh_surface returned a tet of volume " + std::to_string(m.cell_volume(c)));
+            if (!(m.cell_volume(c) > 0)) {
+                char text[96];
+                std::snprintf(text, sizeof text, "mesh_surface returned a tet of volume %.3g",
+                    m.cell_volume(c));
+                finding(text);
+            }
     } catch (const polycut::InputError&) {
     } catch (const polycut::MeshError&) {
     } catch (const std::exception& e) {

@@ -176,16 +176,21 @@ TEST_F(SceneBuildTest, ASecondLoadDuringABuildIsRefused) {
     EXPECT_EQ(other.stats().cell_count, 24u * 24u * 12u * 6u);
 }
 
+/// An inline tet scene of the given geometry (a file of the test's scene directory).
+std::string file_scene(const std::string& name, const std::string& geometry) {
+    return R"({"name": ")" + name + R"(", "geometry": )" + geometry + R"(,
+      "method": "tet",
+      "material": {"youngs_modulus": 3e4, "poisson_ratio": 0.45, "density": 1000},
+      "integrator": {"type": "implicit_euler", "dt": 0.0166667}})";
+}
+
 TEST_F(SceneBuildTest, AFailedBuildLeavesTheOldSceneUnchanged) {
     // A mesh file that parses as a scene but not as a mesh: the scene is accepted, its build
     // fails on the worker.
     std::ofstream(dir.file("broken.msh")) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n"
                                              "3\n1 0 0 0\n2 1 0 not-a-number\n";
-    const std::string broken = R"({"name": "broken",
-      "geometry": {"type": "mesh_file", "path": "broken.msh"},
-      "method": "tet",
-      "material": {"youngs_modulus": 3e4, "poisson_ratio": 0.45, "density": 1000},
-      "integrator": {"type": "implicit_euler", "dt": 0.0166667}})";
+    const std::string broken
+        = file_scene("broken", R"({"type": "mesh_file", "path": "broken.msh"})");
     RunningServer server(test_config(dir, true));
     Client client(context, server.control());
     client.ok<RunState>(StepParams { 3 });
@@ -218,12 +223,8 @@ TEST_F(SceneBuildTest, AHostileSurfaceFailsItsBuildAndTheServerGoesOn) {
            "v 0 1.0000000000000004 1\n"
            "v 1 1 1\n"
            "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
-    const std::string hostile = R"({"name": "hostile",
-      "geometry": {"type": "surface_file", "path": "underflow.obj", "cell_size": 0.25,
-                   "repair": "wrap"},
-      "method": "tet",
-      "material": {"youngs_modulus": 3e4, "poisson_ratio": 0.45, "density": 1000},
-      "integrator": {"type": "implicit_euler", "dt": 0.0166667}})";
+    const std::string hostile = file_scene("hostile",
+        R"({"type": "surface_file", "path": "underflow.obj", "cell_size": 0.25, "repair": "wrap"})");
     RunningServer server(test_config(dir, true));
     Client client(context, server.control());
     client.ok<RunState>(StepParams { 2 });

@@ -347,23 +347,6 @@ void ElasticModel::set_fixed_dofs(std::vector<std::uint8_t> fixed_dofs) {
     rebuild_mass();
 }
 
-SparseMatrix ElasticModel::make_matrix() const {
-    SparseMatrix A(m_num_free, m_num_free);
-    A.resizeNonZeros(Index(m_inner.size()));
-    std::copy(m_outer.begin(), m_outer.end(), A.outerIndexPtr());
-    std::copy(m_inner.begin(), m_inner.end(), A.innerIndexPtr());
-    std::fill(A.valuePtr(), A.valuePtr() + m_inner.size(), 0.0);
-    return A;
-}
-
-void ElasticModel::pattern_into(SparseMatrix& M) const {
-    if (M.rows() != m_num_free || M.cols() != m_num_free || !M.isCompressed())
-        M.resize(m_num_free, m_num_free); // keeps the index and value storage
-    M.data().resize(Index(m_inner.size()), 0.1);
-    std::copy(m_outer.begin(), m_outer.end(), M.outerIndexPtr());
-    std::copy(m_inner.begin(), m_inner.end(), M.innerIndexPtr());
-}
-
 void ElasticModel::set_threads(int threads) {
     if (threads < 1)
         throw InputError("threads", "must be at least 1");

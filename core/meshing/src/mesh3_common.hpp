@@ -38,9 +38,9 @@ inline double ms_since(std::chrono::steady_clock::time_point start) {
 /// Vertices Mesh_3's refinement may insert for a domain inside a box of `box_volume` [m^3] at
 /// `cell_size` [m]: 20 x box_volume / cell_size^3 + 100,000. A well-posed domain takes ~0.4 x
 /// box_volume / cell_size^3 (organ_20k: 18k vertices, 48k box cells), so only a refinement that
-/// does not converge reaches it: a surface with parts much thinner than the cell size (the
-/// wrap of an open box at a quarter of its size refined for minutes; tests/fuzz
-/// surface_readers).
+/// keeps inserting without converging reaches it. (One that stalls instead, as on the wrap of an
+/// open box at a quarter of its size, found by tests/fuzz surface_readers, is stopped by the time
+/// limit of run_mesh_3.)
 inline std::size_t mesh_3_vertex_cap(double box_volume, double cell_size) {
     const double cells = box_volume / (cell_size * cell_size * cell_size);
     return std::size_t(std::min(20 * (std::isfinite(cells) ? cells : 0.0), 1e8)) + 100000;
