@@ -17,6 +17,8 @@
 //                                              bench_organ_ref_<name>_<hash>.bin in the working
 //                                              directory); the accuracy criterion is 1e-3
 //   rolled_back, load                          failed steps; /proc/loadavg (1 min) at the end
+//   budget_stops                               timed steps whose solve stopped at
+//                                              solver.iteration_budget
 // --trace FILE writes one line per step: tick, wall ms, CPU ms, iterations, assembly ms, solve ms.
 // --patch applies a JSON merge patch (RFC 7386) to every scene before parsing, e.g.
 //   --patch '{"integrator": {"threads": 2}}' or '{"solver": {"tolerance": 0.3}}'.
@@ -137,6 +139,7 @@ json run(const std::string& path, const Args& a) {
     const std::vector<Vec3> rest = sim.positions();
     std::vector<double> cpu, wall, asm_ms, solve_ms, its;
     long rolled_back = 0;
+    long budget_stops = 0;
     double err = -1;
     bool need_error = a.error;
     std::vector<Vec3> x50;
@@ -149,6 +152,7 @@ json run(const std::string& path, const Args& a) {
         const sim::StepReport r = sim.step();
         const double w = sw.ms(), c = process_cpu_ms() - c0;
         rolled_back += r.rolled_back ? 1 : 0;
+        budget_stops += r.solver_budget_reached ? 1 : 0;
         if (trace)
             trace << r.tick << ' ' << w << ' ' << c << ' ' << r.solver_iterations << ' '
                   << r.assembly_ms << ' ' << r.solve_ms << '\n';
@@ -181,6 +185,7 @@ json run(const std::string& path, const Args& a) {
     out["its"] = stats(its);
     out["err"] = err;
     out["rolled_back"] = rolled_back;
+    out["budget_stops"] = budget_stops;
     out["load"] = load_average();
     return out;
 }

@@ -95,6 +95,7 @@ std::map<std::string, Getter> getters() {
     g["solver/tolerance"] = [](const Scene& s) { return num(s.solver.tolerance); };
     g["solver/load_tolerance"] = [](const Scene& s) { return num(s.solver.load_tolerance); };
     g["solver/max_iterations"] = [](const Scene& s) { return num(s.solver.max_iterations); };
+    g["solver/iteration_budget"] = [](const Scene& s) { return num(s.solver.iteration_budget); };
     g["solver/refactor_every"] = [](const Scene& s) { return num(s.solver.refactor_every); };
     g["solver/refactor_iterations"]
         = [](const Scene& s) { return num(s.solver.refactor_iterations); };
@@ -306,6 +307,7 @@ TEST(SceneDocs, SceneDefaultsAreTheModuleDefaults) {
     EXPECT_EQ(s.integrator.energy_guard, it.energy_guard);
     EXPECT_EQ(s.solver.tolerance, it.solver.relative_tolerance);
     EXPECT_EQ(s.solver.max_iterations, it.solver.max_iterations);
+    EXPECT_EQ(s.solver.iteration_budget, it.solver.iteration_budget);
     EXPECT_EQ(s.solver.refactor_iterations, it.solver.refactor_iterations);
     // PcgJacobi is type pcg with preconditioner jacobi
     EXPECT_EQ(it.solver.kind, integrate::LinearSolverKind::PcgJacobi);

@@ -30,10 +30,12 @@ Integrator::Integrator(elasticity::Model& model, const IntegratorOptions& option
         solve::PcgOptions p;
         p.relative_tolerance = options.solver.relative_tolerance;
         p.max_iterations = options.solver.max_iterations;
+        p.iteration_budget = options.solver.iteration_budget;
         p.preconditioner = solve::Preconditioner::LaggedCholesky;
         p.refactor_every = 0;
         p.refactor_iterations = INT_MAX;
         p.background_refactor = false;
+        p.iteration_budget = options.solver.iteration_budget;
         p.threads = std::max(options.threads, 1);
         m_lagged = std::make_unique<solve::PcgSolver>(p);
         p.preconditioner = solve::Preconditioner::BlockJacobi3;
@@ -109,6 +111,7 @@ LinearSolveResult Integrator::lagged_solve(const solve::SparseMatrix& A, const V
     r.status = p.status;
     r.iterations = p.iterations;
     r.relative_residual = p.relative_residual;
+    r.budget_reached = p.budget_reached;
     return r;
 }
 
@@ -159,6 +162,7 @@ bool Integrator::linear_solve(
     report.solve_ms += sw.ms();
     report.solver_iterations += r.iterations;
     report.residual = r.relative_residual;
+    report.solver_budget_reached = report.solver_budget_reached || r.budget_reached;
     report.status = r.status;
     if (!r.warning.empty())
         report.warnings.push_back(r.warning);

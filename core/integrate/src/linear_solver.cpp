@@ -6,6 +6,7 @@ solve::PcgOptions pcg_options(const SolverOptions& o) {
     solve::PcgOptions p;
     p.relative_tolerance = o.relative_tolerance;
     p.max_iterations = o.max_iterations;
+    p.iteration_budget = o.iteration_budget;
     p.refactor_every = o.refactor_every;
     p.refactor_iterations = o.refactor_iterations;
     p.background_refactor = o.background_refactor;
@@ -108,6 +109,7 @@ LinearSolveResult LinearSolver::solve(
     r.status = p.status;
     r.iterations = p.iterations;
     r.relative_residual = p.relative_residual;
+    r.budget_reached = p.budget_reached;
     return r;
 }
 

@@ -296,6 +296,7 @@ Solver parse_solver(const json& j, const std::string& ptr) {
     s.tolerance = r.number("tolerance", s.tolerance, 0, 1, true);
     s.load_tolerance = r.number("load_tolerance", s.load_tolerance, 0, 1, false);
     s.max_iterations = int(r.integer("max_iterations", s.max_iterations, 1, 1000000));
+    s.iteration_budget = int(r.integer("iteration_budget", s.iteration_budget, 0, 1000000));
     s.refactor_every = int(r.integer("refactor_every", s.refactor_every, 0, 1000000));
     s.refactor_iterations
         = int(r.integer("refactor_iterations", s.refactor_iterations, 0, 1000000));

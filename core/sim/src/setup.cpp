@@ -203,6 +203,7 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     o.solver.relative_tolerance = sv.tolerance;
     o.solver.load_tolerance = sv.load_tolerance;
     o.solver.max_iterations = sv.max_iterations;
+    o.solver.iteration_budget = sv.iteration_budget;
     o.solver.refactor_every = sv.refactor_every;
     o.solver.refactor_iterations = sv.refactor_iterations;
     // projected: the extrapolated guess while no solutions are kept (the first step, after a

@@ -239,6 +239,7 @@ StepReport Simulation::step() {
             r.assembly_ms = ir.assembly_ms;
             r.solve_ms = ir.solve_ms;
             r.solver_iterations = ir.solver_iterations;
+            r.solver_budget_reached = ir.solver_budget_reached;
             r.newton_iterations = ir.newton_iterations;
             r.residual = ir.residual;
             r.rolled_back = ir.rolled_back;

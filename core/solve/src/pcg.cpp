@@ -69,6 +69,7 @@ struct PcgSolver::Impl {
     /// The last solutions, a Galerkin start for the next solve (PcgOptions::start_vectors)
     detail::StartSpace start;
     double start_norm = 0; ///< ||b - A x0|| of the last iterate() call's start
+    bool budget_reached = false; ///< the last iterate() call stopped at the iteration budget
 
     /// One thread while a background set-up runs (AmgOptions::background_serial), the configured
     /// count otherwise. Called where the job starts or is handed over: at fixed solves.
@@ -198,6 +199,10 @@ struct PcgSolver::Impl {
                 return SolveStatus::NonFinite;
             if (r_norm <= target)
                 return SolveStatus::Ok;
+            if (options.iteration_budget > 0 && iterations >= options.iteration_budget) {
+                budget_reached = true;
+                return SolveStatus::Ok;
+            }
             if (const SolveStatus s = apply(use, A); s != SolveStatus::Ok)
                 return s;
             const double rz_new = r.dot(z);
@@ -454,6 +459,7 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
 
     const double target
         = std::max(impl.options.relative_tolerance * b_norm, impl.options.absolute_tolerance);
+    impl.budget_reached = false;
     impl.start.project(A, b, x, impl.threads);
     result.status = impl.iterate(A, b, x, target, result.used, result.iterations);
     result.start_residual = impl.start_norm / b_norm;
@@ -482,6 +488,7 @@ PcgResult PcgSolver::solve(const SparseMatrix& A, const Vector& b, Vector& x) {
         }
     }
 
+    result.budget_reached = impl.budget_reached;
     if (result.status == SolveStatus::Ok)
         impl.start.push(x, b, impl.r);
     ++impl.solves_since_refactor;

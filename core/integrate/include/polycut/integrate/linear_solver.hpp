@@ -15,6 +15,7 @@ struct LinearSolveResult {
     solve::SolveStatus status = solve::SolveStatus::Ok;
     int iterations = 0;
     double relative_residual = 0;
+    bool budget_reached = false; ///< PCG stopped at SolverOptions::iteration_budget
     /// Set once when the solver had to change method (AMG unavailable: Jacobi from then on).
     std::string warning;
 };

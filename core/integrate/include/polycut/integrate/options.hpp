@@ -24,6 +24,8 @@ struct StepReport {
     double assembly_ms = 0; ///< of which assembly of K and f [ms]
     double solve_ms = 0; ///< of which linear solves [ms]
     int solver_iterations = 0; ///< PCG iterations (summed over Newton iterations)
+    /// a linear solve stopped at SolverOptions::iteration_budget (`residual` says how far)
+    bool solver_budget_reached = false;
     double residual = 0; ///< relative residual of the last linear solve (static: of equilibrium)
     int newton_iterations = 0; ///< static: nonlinear iterations
     solve::SolveStatus status = solve::SolveStatus::Ok;

@@ -65,6 +65,9 @@ struct SolverOptions {
     /// ~1e-4 of its sag); scenes at loose tolerances and high rates set it
     double load_tolerance = 0;
     int max_iterations = 2000; ///< PCG iteration limit
+    /// PCG: stop after this many iterations and step with the iterate (0 = off;
+    /// solve::PcgOptions::iteration_budget): a bounded solve cost, judged by the error it leaves
+    int iteration_budget = 0;
     /// PcgLagged, PcgIncompleteCholesky, PcgAmg: refactor (AMG: set up again) every k solves
     /// (0 = on demand)
     int refactor_every = 0;

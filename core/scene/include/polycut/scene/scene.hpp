@@ -233,6 +233,8 @@ struct Solver {
     /// residual floor as a fraction of h ||f_ext|| (0 = off) [dimensionless]
     double load_tolerance = integrate::SolverOptions {}.load_tolerance;
     int max_iterations = integrate::SolverOptions {}.max_iterations;
+    /// PCG iterations after which a solve stops and the step takes its iterate (0 = off)
+    int iteration_budget = integrate::SolverOptions {}.iteration_budget;
     /// lagged_cholesky, amg: refactor (set up again) every k solves (0 = on demand)
     int refactor_every = integrate::SolverOptions {}.refactor_every;
     /// lagged_cholesky, amg: ...or when a solve needed more PCG iterations than this

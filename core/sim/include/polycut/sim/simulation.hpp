@@ -25,6 +25,8 @@ struct StepReport {
     double solve_ms = 0; ///< linear solves [ms]
     double cut_ms = 0; ///< cuts applied at this tick, incl. cell set-up [ms]
     int solver_iterations = 0; ///< PCG iterations (0 for a direct solve)
+    /// PCG stopped at `solver.iteration_budget` (`residual` says how far from the tolerance)
+    bool solver_budget_reached = false;
     int newton_iterations = 0; ///< static scenes: outer iterations
     double residual = 0; ///< relative residual of the last solve
     bool topology_changed = false;

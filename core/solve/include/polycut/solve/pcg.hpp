@@ -42,6 +42,14 @@ struct PcgOptions {
     /// as a time step's does when the body settles (set per solve: set_absolute_tolerance())
     double absolute_tolerance = 0;
     int max_iterations = 1000;
+    /// Stop after this many iterations and return the iterate as the solution (status Ok,
+    /// PcgResult::budget_reached; 0 = no budget): an inexact solve with a bounded cost, as
+    /// real-time simulators run CG for a fixed count (SOFA's CGLinearSolver `iterations`). PCG's
+    /// iterate minimizes the error's A-norm over x0 + the Krylov space, so it is never further
+    /// from the solution in that norm than the start (or zero, whichever PCG began from). A
+    /// budget below refactor_iterations turns the lagged set-up rule off: the hierarchy or
+    /// factor is renewed by refactor_every, request_refresh() or a size change only.
+    int iteration_budget = 0;
     Preconditioner preconditioner = Preconditioner::Jacobi;
     /// LaggedCholesky, IncompleteCholesky, Amg: refactor (AMG: redo the set-up) every this many
     /// solves (0 = only when needed)...
@@ -84,6 +92,9 @@ struct PcgResult {
     /// projection, or zero when either was worse than zero in the A-norm)
     double start_residual = 0;
     bool refactored = false; ///< the lagged factor was recomputed before this solve
+    /// PcgOptions::iteration_budget stopped the iterations before the tolerance was met
+    /// (relative_residual says how far)
+    bool budget_reached = false;
     /// Preconditioner actually applied (BlockJacobi3 while a background factor is pending).
     Preconditioner used = Preconditioner::None;
 };
