@@ -313,3 +313,52 @@ TEST(SnapCut, ThinStripsBetweenGridPlanesCutTheWholeSection) {
         EXPECT_EQ(off, 0) << "y = " << y;
     }
 }
+
+TEST(SnapCut, ARandomSoupsWorkCountsItsPinchChecksAndSweepTestsAndTheBudgetStopsIt) {
+    // Random triangles of ~4 cm through a 10 cm block of 1.7 cm cells: the held-back faces are
+    // re-checked for pinches after every triangle and the checks scan the whole sweep, work the
+    // touched cells do not show (CutReport::work, snap_cutter.hpp). One call of the whole soup
+    // reports that work: at least its touched cells plus the checks and tests over their units.
+    // The same soup under a budget of a quarter of it stops each call once the call's work
+    // reaches the budget, so it takes several calls, every one but the last at the budget, and
+    // every triangle is cut once.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> in(0.01, 0.09), off(-0.02, 0.02);
+    std::vector<cut::Triangle> soup;
+    for (int k = 0; k < 60; ++k) {
+        const Vec3 c(in(rng), in(rng), in(rng));
+        soup.push_back({ c + Vec3(off(rng), off(rng), off(rng)),
+            c + Vec3(off(rng), off(rng), off(rng)), c + Vec3(off(rng), off(rng), off(rng)) });
+    }
+    auto whole = tet_block(6);
+    const double v0 = whole.rest_volume();
+    cut::SnapCutter one(whole);
+    const cut::CutReport all = one.cut(soup);
+    const cut::SnapStats& st = one.stats();
+    ASSERT_EQ(all.triangles, Index(soup.size()));
+    ASSERT_GT(st.pinch_checks, 0);
+    ASSERT_GT(st.sweep_tests, 0u);
+    const double checks = double(st.pinch_checks) / double(cut::kPinchChecksPerWork)
+        + double(st.sweep_tests) / double(cut::kSweepTestsPerWork);
+    EXPECT_GE(all.work, checks);
+    EXPECT_LE(all.work, checks + double(whole.num_cells()));
+    expect_ok(whole, v0);
+
+    auto parts = tet_block(6);
+    cut::SnapCutter budgeted(parts);
+    const Index budget = Index(std::ceil(all.work / 4));
+    std::size_t done = 0;
+    int calls = 0;
+    while (done < soup.size()) {
+        const cut::CutReport r = budgeted.cut(std::span(soup).subspan(done), budget);
+        ASSERT_GT(r.triangles, 0);
+        done += std::size_t(r.triangles);
+        ++calls;
+        if (done < soup.size()) {
+            EXPECT_GE(r.work, double(budget)) << "call " << calls;
+        }
+        ASSERT_TRUE(expect_ok(parts, v0).ok()) << "call " << calls;
+    }
+    EXPECT_EQ(done, soup.size());
+    EXPECT_GE(calls, 3);
+}

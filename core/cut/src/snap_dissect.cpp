@@ -207,6 +207,7 @@ bool swept_around_now(const State& s, const Vec3& x, double r) {
     for (const SweepPlane& P : s.swept)
         if (may_reach(P, x, r, eps))
             near.push_back(&P);
+    s.sweep_tests += s.swept.size();
     for (const SweepPlane* P : near) {
         if (!inside(*P, x, r))
             continue;
@@ -216,8 +217,10 @@ bool swept_around_now(const State& s, const Vec3& x, double r) {
         for (int i = 0; i < 12 && all; ++i) {
             const double t = std::numbers::pi * i / 6.0;
             const Vec3 q = x0 + r * (std::cos(t) * u + std::sin(t) * v);
-            all = std::any_of(
-                near.begin(), near.end(), [&](const SweepPlane* R) { return inside(*R, q, r); });
+            all = std::any_of(near.begin(), near.end(), [&](const SweepPlane* R) {
+                ++s.sweep_tests;
+                return inside(*R, q, r);
+            });
         }
         if (all)
             return true;
@@ -242,6 +245,7 @@ bool swept_around(const State& s, Index a, Index b, double r) {
         bool near = false;
         for (std::size_t k = m.upto; k < n && !near; ++k)
             near = may_reach(s.swept[k], x, r, eps);
+        s.sweep_tests += n - m.upto;
         if (!near) {
             m.upto = n;
             return false;
@@ -329,6 +333,7 @@ void dissect_pending(State& s) {
             const auto loop = at(s.m.faces, f).nodes;
             for (std::size_t k = 0; k < 3; ++k) {
                 const Index a = loop[k], b = loop[(k + 1) % 3];
+                ++s.stats.pinch_checks;
                 if (!pinch.pinched(a, b))
                     continue;
                 Index drop = kNone;
@@ -420,6 +425,7 @@ void open_pinches(State& s, bool force) {
         bool ok = true;
         for (std::size_t k = 0; k < 3 && ok; ++k) {
             const Index a = face.nodes[k], b = face.nodes[(k + 1) % 3];
+            ++s.stats.pinch_checks;
             if (!pinch.pinched(a, b))
                 continue;
             const double r = s.opt.pinch_clearance * ring_size(s, a, b);

@@ -76,6 +76,8 @@ struct State {
         bool yes = false;
     };
     mutable std::unordered_map<std::uint64_t, SweptMemo> swept_memo;
+    /// SnapStats::sweep_tests of the call, counted by the const tests (copied into stats by end())
+    mutable std::uint64_t sweep_tests = 0;
     std::vector<geometry::Aabb> box; ///< rest bounds per tet
     std::vector<char> box_ok;
     /// Signed rest volume per tet [m^3] as of the last end(): end() recomputes the changed tets
