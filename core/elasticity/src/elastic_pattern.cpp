@@ -297,8 +297,6 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         const auto nodes = cell_nodes(c);
         const std::size_t n = nodes.size(), d = 3 * n;
         int* sc = m_scatter.data() + m_scatter_offset[c];
-        if (reuse[c] == kNone)
-            std::fill(sc, sc + d * d, -1); // fixed DOFs' entries stay -1
         if (const Index o = reuse[c]; o != kNone) {
             // entry (row, col) shifts by its column node's delta: one lookup per column, not
             // a division and a lookup per entry (this copy was ~35 % of a cut's pattern update)
@@ -318,6 +316,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
                     sc[q] = from[q] < 0 ? from[q] : from[q] + shift[q];
             continue;
         }
+        std::fill(sc, sc + d * d, -1); // the fixed DOFs' entries stay -1
         for (std::size_t q = 0; q < n; ++q) {
             const std::size_t j = std::size_t(nodes[q]);
             if (free_count[j] == 0)

@@ -30,7 +30,6 @@ Integrator::Integrator(elasticity::Model& model, const IntegratorOptions& option
         solve::PcgOptions p;
         p.relative_tolerance = options.solver.relative_tolerance;
         p.max_iterations = options.solver.max_iterations;
-        p.iteration_budget = options.solver.iteration_budget;
         p.preconditioner = solve::Preconditioner::LaggedCholesky;
         p.refactor_every = 0;
         p.refactor_iterations = INT_MAX;
