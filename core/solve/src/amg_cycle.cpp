@@ -458,44 +458,69 @@ bool AmgCycle::remap(const RowRemap& m) {
     std::size_t kept = 0;
     while (kept < old_of.size() && kept < std::size_t(P.rows) && old_of[kept] == long(kept))
         ++kept;
-    SortedCsr Q;
-    Q.rows = int(old_of.size());
-    Q.ptr.assign(P.ptr.begin(), P.ptr.begin() + std::ptrdiff_t(kept) + 1);
-    Q.ptr.resize(old_of.size() + 1, 0);
-    Q.column.assign(P.column.begin(), P.column.begin() + P.ptr[kept]);
-    Q.value.assign(P.value.begin(), P.value.begin() + P.ptr[kept]);
-    std::vector<std::pair<int, double>> row; // a new unknown's row, merged by column
+    // The old rows from `kept` on are set aside (none when the cut only appended unknowns) and P
+    // is cut back to its kept rows, which stay where they are: no copy of the whole
+    // interpolation per cut. Old row o is then P's row o below `kept`, else the set-aside one.
+    const int old_rows = P.rows;
+    const int tail_at = P.ptr[kept];
+    const std::vector<int> tail_ptr(P.ptr.begin() + std::ptrdiff_t(kept), P.ptr.end());
+    const std::vector<int> tail_column(P.column.begin() + tail_at, P.column.end());
+    const std::vector<double> tail_value(P.value.begin() + tail_at, P.value.end());
+    P.ptr.resize(kept + 1);
+    P.column.resize(std::size_t(tail_at));
+    P.value.resize(std::size_t(tail_at));
+    const auto old_row = [&](long o, auto&& visit) {
+        if (std::size_t(o) < kept) {
+            for (int k = P.ptr[std::size_t(o)]; k < P.ptr[std::size_t(o) + 1]; ++k)
+                visit(P.column[std::size_t(k)], P.value[std::size_t(k)]);
+            return;
+        }
+        const std::size_t t = std::size_t(o) - kept;
+        for (int k = tail_ptr[t] - tail_at; k < tail_ptr[t + 1] - tail_at; ++k)
+            visit(tail_column[std::size_t(k)], tail_value[std::size_t(k)]);
+    };
+    // A new unknown's row: its origins' rows summed by column in a dense accumulator over the
+    // coarse unknowns (slot[c] the entry of column c in `row`, -1 if none), then sorted by
+    // column (a sort of all the origins' entries was ~2 % of a split stroke's time).
+    const int coarse = m_levels.front().A.rows;
+    if (m_remap_slot.size() != std::size_t(coarse))
+        m_remap_slot.assign(std::size_t(coarse), -1);
+    std::vector<std::pair<int, double>> row;
     for (std::size_t r = kept; r < old_of.size(); ++r) {
         const long o = old_of[r];
-        if (o >= 0 && o < P.rows) {
-            for (int k = P.ptr[std::size_t(o)]; k < P.ptr[std::size_t(o) + 1]; ++k) {
-                Q.column.push_back(P.column[std::size_t(k)]);
-                Q.value.push_back(P.value[std::size_t(k)]);
-            }
+        if (o >= 0 && o < old_rows) {
+            old_row(o, [&](int column, double value) {
+                P.column.push_back(column);
+                P.value.push_back(value);
+            });
         } else if (o < 0 && origins) {
             row.clear();
             for (int j = m.origin_ptr[r]; j < m.origin_ptr[r + 1]; ++j) {
                 const long from = m.origin_row[std::size_t(j)];
-                if (from < 0 || from >= P.rows)
+                if (from < 0 || from >= old_rows)
                     continue;
                 const double w = m.origin_weight[std::size_t(j)];
-                for (int k = P.ptr[std::size_t(from)]; k < P.ptr[std::size_t(from) + 1]; ++k)
-                    row.emplace_back(P.column[std::size_t(k)], w * P.value[std::size_t(k)]);
+                old_row(from, [&](int column, double value) {
+                    int& at = m_remap_slot[std::size_t(column)];
+                    if (at < 0) {
+                        at = int(row.size());
+                        row.emplace_back(column, w * value);
+                    } else {
+                        row[std::size_t(at)].second += w * value;
+                    }
+                });
             }
             std::sort(row.begin(), row.end(),
                 [](const auto& a, const auto& b) { return a.first < b.first; });
             for (const auto& [column, value] : row) {
-                if (Q.ptr[r] < int(Q.column.size()) && Q.column.back() == column)
-                    Q.value.back() += value;
-                else {
-                    Q.column.push_back(column);
-                    Q.value.push_back(value);
-                }
+                m_remap_slot[std::size_t(column)] = -1;
+                P.column.push_back(column);
+                P.value.push_back(value);
             }
         }
-        Q.ptr[r + 1] = int(Q.column.size());
+        P.ptr.push_back(int(P.column.size()));
     }
-    P = std::move(Q);
+    P.rows = int(old_of.size());
     m_levels.front().PT.rows = -1; // transposed again, from the second solve on
     m_solves_since_remap = 0;
     m_ready = false; // apply() runs finish() on the new matrix

@@ -154,6 +154,8 @@ private:
     long m_solves_since_remap = 2;
     bool m_ready = false;
     int m_threads = 1;
+    /// remap(): per coarse unknown, its entry in the new row being summed (-1: none)
+    std::vector<int> m_remap_slot;
     std::vector<int> m_block_rows; ///< T + 1 row bounds of the fine blocks
     std::vector<int> m_block_begin, m_block_end; ///< fine rows: own-block column slots
     Vector m_cross; ///< fine rows: sum over other blocks' columns before the up-sweep
