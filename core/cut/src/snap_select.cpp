@@ -310,7 +310,6 @@ bool opposite(const State& s, const SweepPlane& P, const mesh::Face& face, doubl
 
 bool on_swept_surface(const State& s, const SweepPlane& P, const Vec3& x) {
     const double eps = s.opt.plane_eps * s.L;
-    s.sweep_tests += s.swept.size();
     for (const SweepPlane& R : s.swept)
         if ((x.array() >= R.box.lo.array() - eps).all()
             && (x.array() <= R.box.hi.array() + eps).all() && R.normal.dot(P.normal) >= 1 - 1e-9

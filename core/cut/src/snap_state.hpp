@@ -76,7 +76,7 @@ struct State {
         bool yes = false;
     };
     mutable std::unordered_map<std::uint64_t, SweptMemo> swept_memo;
-    /// SnapStats::sweep_tests of the call, counted by the const tests (copied into stats by end())
+    /// SnapStats::sweep_tests of the call, counted by swept_around() (copied into stats by end())
     mutable std::uint64_t sweep_tests = 0;
     std::vector<geometry::Aabb> box; ///< rest bounds per tet
     std::vector<char> box_ok;
