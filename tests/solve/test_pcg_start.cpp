@@ -1,9 +1,12 @@
 // PCG's projected start (PcgOptions::start_vectors; Fischer 1998, core/solve/src/start_space.hpp):
 // the start is the Galerkin projection of A x = b onto the span of the kept solutions.
 #include "grid_matrix.hpp"
+#include "polycut/common/error.hpp"
 #include "polycut/solve/pcg.hpp"
+#include "polycut/solve/sparse.hpp"
 
 #include <Eigen/Cholesky>
+#include <cstring>
 #include <gtest/gtest.h>
 #include <vector>
 
@@ -129,4 +132,28 @@ TEST(PcgStart, ForgottenOrResizedSolutionsAreNotUsed) {
     Vector y = Vector::Zero(B.rows());
     EXPECT_GT(solve(pcg, B, c, y), 0);
     EXPECT_LE(Vector(c - B * y).norm(), 1e-10 * c.norm() * (1 + 1e-6));
+}
+
+TEST(PcgStart, TheKeptProductsInOnePassAreThoseOfOneMultiplyEach) {
+    // multiply_symmetric_many (the kept solutions' products after a cut, one pass over A) gives
+    // each product exactly as multiply_symmetric does, for 1, 4 and 32 vectors, on one and two
+    // threads (the sums of a row in the same order); more than kMaxMultiply is refused.
+    const SparseMatrix A = grid_matrix(7, 6, 5, kShift);
+    for (const std::size_t m : { std::size_t(1), std::size_t(4), kMaxMultiply })
+        for (const int threads : { 1, 2 }) {
+            std::vector<Vector> xs, ys(m), one(m);
+            for (std::size_t i = 0; i < m; ++i)
+                xs.push_back(random_vector(A.rows(), unsigned(40 + i)));
+            multiply_symmetric_many(A, xs, ys, threads);
+            for (std::size_t i = 0; i < m; ++i) {
+                multiply_symmetric(A, xs[i], one[i], threads);
+                ASSERT_EQ(ys[i].size(), A.rows());
+                EXPECT_EQ(std::memcmp(
+                              ys[i].data(), one[i].data(), sizeof(double) * std::size_t(A.rows())),
+                    0)
+                    << m << " vectors, " << threads << " threads, vector " << i;
+            }
+        }
+    std::vector<Vector> many(kMaxMultiply + 1, Vector::Ones(A.rows())), out(kMaxMultiply + 1);
+    EXPECT_THROW(multiply_symmetric_many(A, many, out), polycut::InputError);
 }

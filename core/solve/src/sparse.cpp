@@ -1,6 +1,11 @@
 // Names of solver outcomes, for step reports and logs.
 #include "polycut/solve/sparse.hpp"
 
+#include "polycut/common/error.hpp"
+
+#include <array>
+#include <string>
+
 namespace polycut::solve {
 
 const char* to_string(SolveStatus s) {
@@ -45,6 +50,48 @@ void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y, int t
         if (k < end)
             even += values[k] * xs[inner[k]];
         y[j] = even + odd;
+    }
+}
+
+void multiply_symmetric_many(
+    const SparseMatrix& A, std::span<const Vector> xs, std::span<Vector> ys, int threads) {
+    const std::size_t m = xs.size();
+    if (m != ys.size() || m > kMaxMultiply)
+        throw InputError("multiply_symmetric_many",
+            std::to_string(m) + " vectors and " + std::to_string(ys.size()) + " results (at most "
+                + std::to_string(kMaxMultiply) + ")");
+    const long n = A.cols();
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    const double* values = A.valuePtr();
+    const int* counts = A.innerNonZeroPtr(); // null when compressed
+    std::array<const double*, kMaxMultiply> x {};
+    std::array<double*, kMaxMultiply> y {};
+    for (std::size_t i = 0; i < m; ++i) {
+        ys[i].resize(n);
+        x[i] = xs[i].data();
+        y[i] = ys[i].data();
+    }
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+    for (long j = 0; j < n; ++j) {
+        const int begin = outer[j];
+        const int end = counts ? begin + counts[j] : outer[j + 1];
+        // the even / odd accumulators of multiply_symmetric, per vector: the same sums
+        std::array<double, kMaxMultiply> even {}, odd {};
+        int k = begin;
+        for (; k + 1 < end; k += 2) {
+            const double v0 = values[k], v1 = values[k + 1];
+            const int c0 = inner[k], c1 = inner[k + 1];
+            for (std::size_t i = 0; i < m; ++i) {
+                even[i] += v0 * x[i][c0];
+                odd[i] += v1 * x[i][c1];
+            }
+        }
+        if (k < end)
+            for (std::size_t i = 0; i < m; ++i)
+                even[i] += values[k] * x[i][inner[k]];
+        for (std::size_t i = 0; i < m; ++i)
+            y[i][j] = even[i] + odd[i];
     }
 }
 

@@ -75,8 +75,8 @@ bool StartSpace::project(const SparseMatrix& A, const Vector& b, Vector& x, int 
     if (m == 0 || m_saved.front().size() != x.size() || b.size() != x.size())
         return false;
     if (m_stale) {
-        for (std::size_t i = 0; i < m_saved.size(); ++i)
-            multiply_symmetric(A, m_saved[i], m_products[i], threads);
+        // one pass over A for all of them (the same products as one multiply each)
+        multiply_symmetric_many(A, m_saved, m_products, threads);
         for (std::size_t i = 0; i < m_saved.size(); ++i)
             for (std::size_t j = 0; j <= i; ++j)
                 set_gram(i, j);

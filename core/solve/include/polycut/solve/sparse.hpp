@@ -5,6 +5,7 @@
 #include "polycut/common/sparse.hpp"
 
 #include <Eigen/SparseCore>
+#include <span>
 #include <vector>
 
 namespace polycut::solve {
@@ -43,6 +44,14 @@ struct RowRemap {
 /// threads > 1 splits the rows into static blocks (the same sums per row: the result does not
 /// depend on the count).
 void multiply_symmetric(const SparseMatrix& A, const Vector& x, Vector& y, int threads = 1);
+
+/// ys[i] = A xs[i] for up to kMaxMultiply vectors in one pass over A: each entry of A is read
+/// once for all of them (the products of the kept PCG solutions after a cut were four passes).
+/// Every ys[i] equals multiply_symmetric(A, xs[i], ys[i]) to the bit. xs.size() == ys.size();
+/// no ys[i] may alias an xs[j].
+inline constexpr std::size_t kMaxMultiply = 32;
+void multiply_symmetric_many(
+    const SparseMatrix& A, std::span<const Vector> xs, std::span<Vector> ys, int threads = 1);
 
 /// One pass over a symmetric K (full storage, n x n): A = a K + diag(d) on K's pattern and
 /// y = K x (as multiply_symmetric). A must have K's sparsity pattern, compressed like K (e.g. a
