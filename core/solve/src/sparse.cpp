@@ -1,4 +1,4 @@
-// Names of solver outcomes, for step reports and logs.
+// Names of solver outcomes, and the symmetric sparse products of the solvers and integrators.
 #include "polycut/solve/sparse.hpp"
 
 #include "polycut/common/error.hpp"

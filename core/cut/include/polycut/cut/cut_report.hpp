@@ -78,8 +78,8 @@ struct CutReport {
     /// integration and stiffness of the changed cells) grows so: on the default block it was
     /// 0.04-0.05 ms per unit, r = 0.96-0.99 over curved and random strokes, where the plain
     /// count of changed cells did not predict it. What the per-tick cut budget counts.
-    /// Face snapping: the cells the call touched plus its pinch checks over
-    /// kPinchChecksPerWork (snap_cutter.hpp).
+    /// Face snapping: the cells the call touched plus its pinch and swept-around tests, in the
+    /// same units (kPinchChecksPerWork, kSweepTestsPerWork in snap_cutter.hpp).
     double work = 0;
     /// Face snapping (`tet`) only: old node id -> new id (kNone if collapsed away); empty when
     /// no node was removed. Ids in `new_nodes`, `duplicated` and `moved_nodes` are after the call;

@@ -16,12 +16,11 @@
 // before anything changes.
 #pragma once
 
-#include <cstdint>
-
 #include "polycut/cut/cut_options.hpp"
 #include "polycut/cut/cut_report.hpp"
 #include "polycut/mesh/mesh.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <numbers>
 #include <span>
@@ -74,7 +73,6 @@ struct SnapOptions {
     double pinch_clearance = 1.0;
 };
 
-/// What the last cut call of a SnapCutter did beyond the common CutReport.
 /// A face-snapping call's work (CutReport::work, what the per-tick cut budget counts, in units
 /// of ~0.045 ms as decision 0066 calibrated cell splitting's) is its touched cells plus its pinch
 /// checks (SnapStats::pinch_checks) over kPinchChecksPerWork plus its tests of whether the sweep
@@ -85,6 +83,7 @@ struct SnapOptions {
 inline constexpr Index kPinchChecksPerWork = 12;
 inline constexpr Index kSweepTestsPerWork = 2600;
 
+/// What the last cut call of a SnapCutter did beyond the common CutReport.
 struct SnapStats {
     Index edges_crossed = 0; ///< sweep/edge intersections found (first per edge and tet)
     Index faces_selected = 0; ///< faces selected by closest nodes (002 sec. 3.2.1)
