@@ -21,7 +21,7 @@ namespace {
 template <int N>
 void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const MatX3& G,
     const MatX3& Xr, const MatX3& x, bool corotated, Mat3& R, double* ubuf, double* fbuf,
-    const int* scatter, double* Kvals, double* fint) {
+    const int* scatter, double* Kvals, double* fint, const detail::StepProduct* step) {
     constexpr int D = (N == Eigen::Dynamic) ? Eigen::Dynamic : 3 * N;
     const int d = 3 * n;
     const Eigen::Map<const Eigen::Matrix<double, D, D>> K(Ke.data(), d, d);
@@ -58,21 +58,37 @@ void cell_kernel(int n, const MatX& Ke, const std::vector<Index>& nodes, const M
     if (Kvals) {
         // K is symmetric (element_stiffness), so block (j, i) of R K R^T is block (i, j)
         // transposed: each pair of blocks is rotated once.
+        // With a step product the blocks are scaled and their product with v is summed in
+        // fl (free again: the forces are out).
+        const double scale = step ? step->scale : 1.0;
+        const double* v = step && step->kv ? step->v : nullptr;
+        if (v)
+            fl.setZero();
         const auto scatter_block = [&](int i, int j, const Mat3& B) {
             const int* row = scatter + std::size_t(3 * i) * std::size_t(d) + std::size_t(3 * j);
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b)
                     if (const int s = row[std::size_t(a) * std::size_t(d) + std::size_t(b)]; s >= 0)
                         Kvals[s] += B(a, b);
+            if (v)
+                fl.template segment<3>(3 * i)
+                    += B * Eigen::Map<const Vec3>(v + 3 * std::size_t(nodes[std::size_t(j)]));
         };
         for (int j = 0; j < n; ++j)
             for (int i = 0; i <= j; ++i) {
-                const Mat3 B = corotated
-                    ? Mat3(R * K.template block<3, 3>(3 * i, 3 * j) * R.transpose())
-                    : Mat3(K.template block<3, 3>(3 * i, 3 * j));
+                const Mat3 B = scale
+                    * (corotated ? Mat3(R * K.template block<3, 3>(3 * i, 3 * j) * R.transpose())
+                                 : Mat3(K.template block<3, 3>(3 * i, 3 * j)));
                 scatter_block(i, j, B);
                 if (i != j)
                     scatter_block(j, i, B.transpose());
+            }
+        if (v)
+            for (int i = 0; i < n; ++i) {
+                double* dst = step->kv + 3 * std::size_t(nodes[std::size_t(i)]);
+                dst[0] += fl(3 * i);
+                dst[1] += fl(3 * i + 1);
+                dst[2] += fl(3 * i + 2);
             }
     }
 }
@@ -356,8 +372,8 @@ void ElasticModel::set_threads(int threads) {
     rebuild_partition();
 }
 
-void ElasticModel::assemble_cells(
-    const std::vector<Index>& cells, const MatX3& x, bool corotated, double* Kvals, double* fint) {
+void ElasticModel::assemble_cells(const std::vector<Index>& cells, const MatX3& x, bool corotated,
+    double* Kvals, double* fint, const detail::StepProduct* step) {
     const double mu = m_material.mu();
     // NodalAverage: the P1 kernel takes the deviatoric part (kappa = lambda + 2 mu / 3 moves to
     // the nodal term), as element_stiffness() does for the other cells.
@@ -378,27 +394,43 @@ void ElasticModel::assemble_cells(
             batch[pending++]
                 = { t.nodes, t.g, t.c0, t.volume, &R, sc, blk[0] >= 0 ? blk : nullptr };
             if (pending == detail::kP1Lanes) {
-                detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
+                detail::p1_batch(
+                    batch, pending, lambda, mu, x.data(), corotated, Kvals, fint, step);
                 pending = 0;
             }
         } else if (n == 4)
             cell_kernel<4>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x, corotated, R, ubuf,
-                fbuf, sc, Kvals, fint);
+                fbuf, sc, Kvals, fint, step);
         else if (n == 8)
             cell_kernel<8>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x, corotated, R, ubuf,
-                fbuf, sc, Kvals, fint);
+                fbuf, sc, Kvals, fint, step);
         else {
             ubig.resize(3 * std::size_t(n));
             fbig.resize(3 * std::size_t(n));
             cell_kernel<Eigen::Dynamic>(n, cd.stiffness, cd.nodes, cd.fit, cd.rest_local, x,
-                corotated, R, ubig.data(), fbig.data(), sc, Kvals, fint);
+                corotated, R, ubig.data(), fbig.data(), sc, Kvals, fint, step);
         }
     }
     if (pending > 0)
-        detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint);
+        detail::p1_batch(batch, pending, lambda, mu, x.data(), corotated, Kvals, fint, step);
 }
 
 void ElasticModel::assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) {
+    assemble_impl(x, mode, K, f_int, nullptr);
+}
+
+bool ElasticModel::assemble_step(const MatX3& x, ForceMode mode, double scale, const MatX3& v,
+    SparseMatrix& A, VecX& f_int, VecX& kv) {
+    if (m_nodal || v.rows() != x.rows())
+        return false; // the nodal term has no step product: the caller scales K itself
+    kv.setZero(3 * x.rows());
+    const detail::StepProduct step { scale, v.data(), kv.data() };
+    assemble_impl(x, mode, &A, &f_int, &step);
+    return true;
+}
+
+void ElasticModel::assemble_impl(
+    const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int, const detail::StepProduct* step) {
     double* Kvals = nullptr;
     if (K) {
         if (K->rows() != m_num_free || K->nonZeros() != Index(m_inner.size()) || !K->isCompressed())
@@ -417,7 +449,7 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, Vec
         if (Kvals)
             std::fill(Kvals, Kvals + nnz, 0.0);
         if (T == 1)
-            assemble_cells(m_thread_cells[0], x, corotated, Kvals, fint);
+            assemble_cells(m_thread_cells[0], x, corotated, Kvals, fint, step);
         if (m_nodal) // after the cells: their rotations are current
             m_nodal->assemble(x, m_rotation, corotated, Kvals, fint);
         return;
@@ -433,9 +465,9 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, Vec
         }
 #pragma omp for schedule(static, 1)
         for (int t = 0; t < T; ++t)
-            assemble_cells(m_thread_cells[std::size_t(t)], x, corotated, Kvals, fint);
+            assemble_cells(m_thread_cells[std::size_t(t)], x, corotated, Kvals, fint, step);
     }
-    assemble_cells(m_shared_cells, x, corotated, Kvals, fint);
+    assemble_cells(m_shared_cells, x, corotated, Kvals, fint, step);
     if (m_nodal)
         m_nodal->assemble(x, m_rotation, corotated, Kvals, fint);
 }

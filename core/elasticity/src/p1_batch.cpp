@@ -143,7 +143,7 @@ struct V3 {
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 #endif
 void p1_batch(const P1TetView* tets, int count, double lambda, double mu, const double* x,
-    bool corotated, double* Kvals, double* fint) {
+    bool corotated, double* Kvals, double* fint, const StepProduct* step) {
     constexpr int W = kP1Lanes;
     // Gather (lanes past count repeat the first tet; their results are dropped).
     V3 p[4], g[4];
@@ -228,7 +228,8 @@ void p1_batch(const P1TetView* tets, int count, double lambda, double mu, const 
     for (int i = 0; i < 4; ++i)
         for (int a = 0; a < 3; ++a)
             r[i].v[a] = R.m[a][0] * g[i].v[0] + R.m[a][1] * g[i].v[1] + R.m[a][2] * g[i].v[2];
-    const vd vl = V * lambda, vmu = V * mu;
+    const double scale = step ? step->scale : 1.0;
+    const vd vl = V * (scale * lambda), vmu = V * (scale * mu);
     // Blocks (i, j), i <= j: B = vl r_i r_j^T + vmu r_j r_i^T + vmu (g_i . g_j) I; (j, i) = B^T.
     M3 B[10];
     int b = 0;
@@ -241,6 +242,39 @@ void p1_batch(const P1TetView* tets, int count, double lambda, double mu, const 
                     B[b].m[a][c] = vl * r[i].v[a] * r[j].v[c] + vmu * r[j].v[a] * r[i].v[c]
                         + (a == c ? gg : vd {});
         }
+    if (step && step->kv) {
+        // kv_i += sum_j B_ij v_j, with B_ji = B_ij^T
+        V3 vel[4], y[4];
+        for (int k = 0; k < W; ++k) {
+            const P1TetView& t = tets[k < count ? k : 0];
+            for (int i = 0; i < 4; ++i)
+                for (int a = 0; a < 3; ++a)
+                    vel[i].v[a][k] = step->v[3 * std::size_t(t.nodes[i]) + std::size_t(a)];
+        }
+        for (int i = 0; i < 4; ++i)
+            for (int a = 0; a < 3; ++a)
+                y[i].v[a] = vd {};
+        b = 0;
+        for (int i = 0; i < 4; ++i)
+            for (int j = i; j < 4; ++j, ++b) {
+                const M3& Bij = B[b];
+                for (int a = 0; a < 3; ++a)
+                    y[i].v[a] += Bij.m[a][0] * vel[j].v[0] + Bij.m[a][1] * vel[j].v[1]
+                        + Bij.m[a][2] * vel[j].v[2];
+                if (j == i)
+                    continue;
+                for (int a = 0; a < 3; ++a)
+                    y[j].v[a] += Bij.m[0][a] * vel[i].v[0] + Bij.m[1][a] * vel[i].v[1]
+                        + Bij.m[2][a] * vel[i].v[2];
+            }
+        for (int k = 0; k < count; ++k)
+            for (int i = 0; i < 4; ++i) {
+                double* dst = step->kv + 3 * std::size_t(tets[k].nodes[i]);
+                dst[0] += y[i].v[0][k];
+                dst[1] += y[i].v[1][k];
+                dst[2] += y[i].v[2][k];
+            }
+    }
     for (int k = 0; k < count; ++k) {
         if (const int* blk = tets[k].block) {
             b = 0;

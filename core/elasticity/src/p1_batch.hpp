@@ -25,6 +25,15 @@ struct P1TetView {
     const int* block;
 };
 
+/// The step matrix's stiffness part assembled directly (ElasticModel::assemble_step): the
+/// blocks go into the values scaled by `scale`, and kv (3#N) gets the scaled blocks times v
+/// (3#N, row-major, the same node order as x).
+struct StepProduct {
+    double scale = 1; ///< factor on every stiffness block written
+    const double* v = nullptr; ///< velocities [m/s] (3#N)
+    double* kv = nullptr; ///< += scale K v (3#N)
+};
+
 /// Evaluates `count` (1..kP1Lanes) tets: forces into f_int (3#N, may be null), stiffness blocks
 /// into K's values (may be null), with x the world positions (#N x 3, row-major) [m]. Per tet
 /// the same quantities as the scalar kernel (000 eq. 10-11 corotated, H = R^T F - C0, sigma =
@@ -32,7 +41,9 @@ struct P1TetView {
 /// + mu g_i.g_j I)); equal to it up to round-off. A tet whose rotation the vectorized warm
 /// Newton iteration does not settle in 3 steps (large rotation since the last call, a nearly
 /// flat or inverted tet) takes the scalar polar_rotation_warm() path.
+/// With `step` (may be null), the blocks are scaled and their product with v accumulated (see
+/// StepProduct).
 void p1_batch(const P1TetView* tets, int count, double lambda, double mu, const double* x,
-    bool corotated, double* Kvals, double* fint);
+    bool corotated, double* Kvals, double* fint, const StepProduct* step = nullptr);
 
 } // namespace polycut::elasticity::detail

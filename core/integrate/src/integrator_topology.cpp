@@ -119,13 +119,20 @@ bool Integrator::prepare(const State& s) {
         // The first step's assembly, done here and kept for it (step_implicit() takes it when
         // it starts from these positions): assembling again would start the corotation's polar
         // iterations from these rotations and differ in round-off.
-        assemble(s.x, m_options.force_mode, true, report);
+        // the same assembly as step_implicit() would make (bit for bit)
         const double h = m_options.dt;
         const double cK = h * m_model->material().rayleigh_stiffness + h * h;
         const double cM = 1.0 + h * m_model->material().rayleigh_mass;
-        gather_free(s.v, m_v_r);
-        m_shift = cM * m_model->reduced_mass();
-        solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());
+        m_prepared_direct
+            = m_options.stiffness_every <= 1 && cK > 0 && assemble_step_matrix(s, cK, cM, report);
+        if (m_prepared_direct)
+            m_prepared_v = s.v;
+        else {
+            assemble(s.x, m_options.force_mode, true, report);
+            gather_free(s.v, m_v_r);
+            m_shift = cM * m_model->reduced_mass();
+            solve::scale_shift_multiply(m_K, cK, m_shift, m_v_r, m_A, m_tmp, m_model->threads());
+        }
         m_prepared_x = s.x;
         m_prepared_cells = m_model->cell_version();
         pass_coordinates(s.x);

@@ -21,7 +21,8 @@ namespace polycut::elasticity {
 
 namespace detail {
 class NodalDilatation;
-}
+struct StepProduct;
+} // namespace detail
 
 /// One fixed-DOF mask entry per DOF (3#N), 1 = fixed. Helper: fix all three DOFs of the nodes
 /// with node_mask[i] != 0.
@@ -97,6 +98,10 @@ public:
     /// (including reactions on fixed DOFs). Corotated mode updates the cached cell rotations.
     /// No allocation once K and f_int have the right size.
     void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) override;
+    /// Model::assemble_step: the cells' kernels scale their blocks and sum the scaled blocks
+    /// times v as they scatter them (no pass over K). False with the nodal volumetric term.
+    bool assemble_step(const MatX3& x, ForceMode mode, double scale, const MatX3& v,
+        SparseMatrix& A, VecX& f_int, VecX& kv) override;
 
     /// Elastic energy [J] at x: sum over cells of 1/2 u^T Ke u with the same local displacement u
     /// as the forces (Corotated: rotations of x, warm-started from the cached ones).
@@ -234,9 +239,13 @@ private:
     /// build.
     void build_pattern(std::vector<char> affected, std::vector<Index> old_cell);
     void rebuild_partition();
-    /// Assembles the listed cells (in order) into Kvals / fint (either may be null).
+    /// assemble(), or assemble_step() with `step`.
+    void assemble_impl(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int,
+        const detail::StepProduct* step);
+    /// Assembles the listed cells (in order) into Kvals / fint (either may be null); with
+    /// `step` (may be null) the blocks are scaled and multiplied with its velocities.
     void assemble_cells(const std::vector<Index>& cells, const MatX3& x, bool corotated,
-        double* Kvals, double* fint);
+        double* Kvals, double* fint, const detail::StepProduct* step);
 
     const mesh::Mesh* m_mesh;
     Material m_material;
