@@ -16,7 +16,7 @@ rounds=${3:-1}
 boxes=${4:-"12 20 30"}
 root=$(cd "$(dirname "$0")/../.." && pwd)
 declare -A vega_tol=([12]=3e-2 [20]=3e-2 [30]=2e-2)
-declare -A polycut_tol=([12]=0.25 [20]=0.25 [30]=0.25)
+declare -A polycut_tol=([12]=0.25 [20]=0.2 [30]=0.25)
 warm_start=${POLYCUT_WARM_START:-projected}
 for r in $(seq "$rounds"); do
     for n in $boxes; do

@@ -88,17 +88,20 @@ void find_own_slots(const int* ptr, const int* column, const std::vector<int>& r
     }
 }
 
-/// The l1 terms (sum of |a_ij| over other blocks' columns) and 1 / (a_ii + l1_i) per row.
+/// The l1 terms (sum of |a_ij| over other blocks' columns) and 1 / (a_ii + l1_i) per row, each
+/// block's rows on its own thread (rows are independent: the result does not depend on it).
 void l1_terms(const View& a, const Blocks& k, double* l1, double* inverse) {
-    for (int i = 0; i < a.rows; ++i) {
-        double s = 0;
-        for (int q = a.ptr[i]; q < k.begin[i]; ++q)
-            s += std::abs(a.value[q]);
-        for (int q = k.end[i]; q < a.ptr[i + 1]; ++q)
-            s += std::abs(a.value[q]);
-        l1[i] = s;
-        inverse[i] = 1.0 / (a.value[a.diagonal[i]] + s);
-    }
+#pragma omp parallel for num_threads(k.T) schedule(static, 1) if (k.T > 1)
+    for (int t = 0; t < k.T; ++t)
+        for (int i = k.rows[t]; i < k.rows[t + 1]; ++i) {
+            double s = 0;
+            for (int q = a.ptr[i]; q < k.begin[i]; ++q)
+                s += std::abs(a.value[q]);
+            for (int q = k.end[i]; q < a.ptr[i + 1]; ++q)
+                s += std::abs(a.value[q]);
+            l1[i] = s;
+            inverse[i] = 1.0 / (a.value[a.diagonal[i]] + s);
+        }
 }
 
 /// Hybrid down-sweep from x = 0 and its residual: forward l1 Gauss-Seidel inside each block

@@ -287,6 +287,7 @@ struct PcgSolver::Impl {
     SolveStatus setup_amg(const SparseMatrix& A) {
         drop_amg_job();
         ++refactorizations;
+        amg.set_coordinates(amg_coordinates); // kept here, handed over only when needed
         const SolveStatus s = amg.setup(A);
         setup_error = s == SolveStatus::NotReady ? amg.error() : std::string();
         if (s != SolveStatus::Ok) {
@@ -538,7 +539,6 @@ void PcgSolver::finish_background_refactor() {
 void PcgSolver::set_coordinates(const Vector& coordinates) {
     if (m_impl->options.preconditioner == Preconditioner::Amg
         && m_impl->options.amg.rigid_body_modes) {
-        m_impl->amg.set_coordinates(coordinates);
         m_impl->amg_coordinates = coordinates;
     }
 }
