@@ -11,10 +11,28 @@ namespace polycut::cut {
 
 namespace {
 
-/// Keeps the part of the convex polygon `poly` with n . x <= d (Sutherland-Hodgman, one plane).
-void clip(std::vector<Vec3>& poly, const Vec3& n, double d) {
-    std::vector<Vec3> out;
-    out.reserve(poly.size() + 1);
+/// Reused buffers: these run for every sweep triangle of a cut over every cell near it, and
+/// the allocations of a loop per face and a polygon per clip were most of their cost.
+struct Scratch {
+    std::vector<Vec3> poly, out, loop;
+};
+Scratch& scratch() {
+    thread_local Scratch s;
+    return s;
+}
+
+/// The positions of `ids` into `loop` (geometry::gather without a new vector).
+template <class Ids>
+void gather_into(const std::vector<Vec3>& points, const Ids& ids, std::vector<Vec3>& loop) {
+    loop.clear();
+    for (Index i : ids)
+        loop.push_back(points[std::size_t(i)]);
+}
+
+/// Keeps the part of the convex polygon `poly` with n . x <= d (Sutherland-Hodgman, one plane);
+/// `out` is scratch.
+void clip(std::vector<Vec3>& poly, std::vector<Vec3>& out, const Vec3& n, double d) {
+    out.clear();
     for (std::size_t j = 0; j < poly.size(); ++j) {
         const Vec3& p = poly[j];
         const Vec3& q = poly[(j + 1) % poly.size()];
@@ -24,7 +42,7 @@ void clip(std::vector<Vec3>& poly, const Vec3& n, double d) {
         if ((sp <= 0) != (sq <= 0))
             out.push_back(p + (q - p) * (sp / (sp - sq)));
     }
-    poly = std::move(out);
+    poly.swap(out);
 }
 
 double area_in_cell(const mesh::Mesh& m, Index c, const Triangle& t, const Vec3& t_normal) {
@@ -33,17 +51,19 @@ double area_in_cell(const mesh::Mesh& m, Index c, const Triangle& t, const Vec3&
     for (Index n : cell.nodes)
         centre += m.rest[std::size_t(n)];
     centre /= double(cell.nodes.size());
-    std::vector<Vec3> poly(t.begin(), t.end());
+    Scratch& sc = scratch();
+    std::vector<Vec3>& poly = sc.poly;
+    poly.assign(t.begin(), t.end());
+    const double scale = std::max((t[1] - t[0]).norm(), (t[2] - t[0]).norm());
     for (Index f : cell.faces) {
-        const std::vector<Vec3> loop = geometry::gather(m.rest, m.faces[std::size_t(f)].nodes);
-        Vec3 n = geometry::polygon_normal(loop);
-        const Vec3 p = geometry::polygon_centroid(loop);
+        gather_into(m.rest, m.faces[std::size_t(f)].nodes, sc.loop);
+        Vec3 n = geometry::polygon_normal(sc.loop);
+        const Vec3 p = geometry::polygon_centroid(sc.loop);
         if (n.dot(centre - p) > 0)
             n = -n; // outward
         const double d = n.dot(p);
         // A triangle lying in an interior face is counted for the face's owner only, so a blade
         // in a plane of faces is not counted twice; one lying in a skin face is not inside.
-        const double scale = std::max((t[1] - t[0]).norm(), (t[2] - t[0]).norm());
         const bool coplanar = std::abs(std::abs(n.dot(t_normal)) - 1.0) < 1e-9
             && std::abs(n.dot(t[0]) - d) < 1e-9 * scale;
         if (coplanar) {
@@ -51,7 +71,7 @@ double area_in_cell(const mesh::Mesh& m, Index c, const Triangle& t, const Vec3&
                 return 0.0;
             continue;
         }
-        clip(poly, n, d);
+        clip(poly, sc.out, n, d);
         if (poly.size() < 3)
             return 0.0;
     }
@@ -95,19 +115,24 @@ double area_on_cut_faces(
     const Vec3 centre = (t[0] + t[1] + t[2]) / 3.0;
     // Per lip: the cells near a re-cut may hold one lip or both (each covers the same area).
     double area[2] = { 0, 0 };
-    std::vector<Index> seen;
-    for (Index c : cells)
+    // A boundary face belongs to one cell: unique cells visit each face once (a list of the
+    // faces seen, searched per face, grew quadratic with the cut faces of repeated strokes).
+    std::vector<Index> unique(cells.begin(), cells.end());
+    std::sort(unique.begin(), unique.end());
+    unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+    Scratch& sc = scratch();
+    std::vector<Vec3>& poly = sc.poly;
+    for (Index c : unique)
         for (Index f : m.cells[std::size_t(c)].faces) {
             const mesh::Face& face = m.faces[std::size_t(f)];
             if (!face.boundary() || face.tag != mesh::FaceTag::Cut)
                 continue;
-            std::vector<Vec3> poly = geometry::gather(m.rest, face.nodes);
+            gather_into(m.rest, face.nodes, poly);
             bool near = true;
             for (const Vec3& p : poly)
                 near = near && std::abs(unit.dot(p - t[0])) <= tol;
-            if (!near || std::find(seen.begin(), seen.end(), f) != seen.end())
+            if (!near)
                 continue;
-            seen.push_back(f);
             const double cosine = geometry::polygon_normal(poly).dot(unit);
             // Projected onto the triangle's plane (a face-snapped cut is a surface of mesh faces
             // beside the blade, not in its plane), then clipped by the triangle's three edge
@@ -119,7 +144,7 @@ double area_on_cut_faces(
                 Vec3 out = e.cross(unit);
                 if (out.dot(centre - t[std::size_t(k)]) > 0)
                     out = -out;
-                clip(poly, out, out.dot(t[std::size_t(k)]));
+                clip(poly, sc.out, out, out.dot(t[std::size_t(k)]));
             }
             if (poly.size() >= 3)
                 area[cosine > 0 ? 0 : 1] += geometry::polygon_area(poly);
