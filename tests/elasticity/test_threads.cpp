@@ -79,6 +79,10 @@ TEST(ThreadedAssembly, TwoThreadsMatchOneToRoundOffAndRepeatBitForBit) {
     // blocks (6 tets x 10 x 8 = 480 of 2,880), the rest split evenly
     EXPECT_GT(s.model->shared_cells(), 0);
     EXPECT_LT(s.model->shared_cells(), s.mesh.num_cells() / 5);
+    // Of the shared cells, those on either side of the band's split run on the two threads:
+    // only the blocks across the split (one column of the layer, ~48 of 480) stay serial.
+    EXPECT_GT(s.model->serial_cells(), 0);
+    EXPECT_LT(s.model->serial_cells(), s.model->shared_cells() / 4);
     // The node ranges are balanced by each cell's middle node, so both threads lose about as
     // many cells to the serial part: within 5 % of the cells (counted at their first node, all
     // cells across the bound went from the lower range: 546 cells apart).

@@ -466,6 +466,12 @@ void ElasticModel::assemble_impl(
 #pragma omp for schedule(static, 1)
         for (int t = 0; t < T; ++t)
             assemble_cells(m_thread_cells[std::size_t(t)], x, corotated, Kvals, fint, step);
+        // the shared cells on either side of the band's split (split_shared_cells), after the
+        // barrier of the loop above
+        const int G = int(m_shared_groups.size());
+#pragma omp for schedule(static, 1)
+        for (int g = 0; g < G; ++g)
+            assemble_cells(m_shared_groups[std::size_t(g)], x, corotated, Kvals, fint, step);
     }
     assemble_cells(m_shared_cells, x, corotated, Kvals, fint, step);
     if (m_nodal)

@@ -183,8 +183,16 @@ public:
     /// cells stay in their thread.
     void set_threads(int threads) override;
     int threads() const override { return m_threads; }
-    /// Cells of the serial part of a threaded assembly (0 when serial), for reports and tests.
-    Index shared_cells() const { return Index(m_shared_cells.size()); }
+    /// Cells across the threads' node ranges (0 when serial), for reports and tests: with two
+    /// threads most run in two groups after the threads' own cells, the rest serially.
+    Index shared_cells() const {
+        Index n = Index(m_shared_cells.size());
+        for (const auto& g : m_shared_groups)
+            n += Index(g.size());
+        return n;
+    }
+    /// Of those, the cells assembled serially.
+    Index serial_cells() const { return Index(m_shared_cells.size()); }
     /// Cells each thread of a threaded assembly takes, in thread order (one entry when serial).
     std::vector<Index> thread_cell_counts() const {
         std::vector<Index> counts;
@@ -239,6 +247,8 @@ private:
     /// build.
     void build_pattern(std::vector<char> affected, std::vector<Index> old_cell);
     void rebuild_partition();
+    /// rebuild_partition()'s last part: m_shared_groups from m_shared_cells (two threads).
+    void split_shared_cells();
     /// assemble(), or assemble_step() with `step`.
     void assemble_impl(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int,
         const detail::StepProduct* step);
@@ -287,6 +297,9 @@ private:
     /// Threaded assembly: cells per thread (all nodes in its range), then the rest (serial).
     std::vector<std::vector<Index>> m_thread_cells;
     std::vector<Index> m_shared_cells;
+    /// Two threads: the shared cells on either side of a split of their band of nodes, each
+    /// group assembled by one thread after the threads' own cells (empty: all are serial).
+    std::vector<std::vector<Index>> m_shared_groups;
     /// Nodes the assembly's node ranges were made on (later nodes, appended by cuts, take the
     /// range of their cells); 0 until the first partition or after a renumbering.
     Index m_partition_nodes = 0;
