@@ -147,6 +147,10 @@ void Integrator::external_reduced() {
 
 double Integrator::assemble(const MatX3& x, ForceMode mode, bool with_K, StepReport& report) {
     const Stopwatch sw;
+    if (with_K && m_K_pattern_stale) {
+        m_model->pattern_into(m_K);
+        m_K_pattern_stale = false;
+    }
     m_model->assemble(x, mode, with_K ? &m_K : nullptr, &m_fint);
     m_model->reduce(m_fint, m_fint_r);
     const double ms = sw.ms();

@@ -16,7 +16,9 @@ void Integrator::ensure_topology(StepReport& report) {
     // The new pattern in the matrices' own storage: fresh ones (and a copy of K for A) were
     // half of the step's topology update on the organ, most of it page faults and zero fills
     // (perf, bench_cut). Their values are written before use (assembly, scale_shift_multiply).
-    m_model->pattern_into(m_K);
+    // K only where a step assembles it (Integrator::assemble): with the step matrix from the
+    // kernels (assemble_step_matrix) it is never formed, and its pattern is not copied.
+    m_K_pattern_stale = true;
     m_model->pattern_into(m_A);
     // A cut that kept the node ids keeps the AMG hierarchy, carried over to the new DOF
     // numbering through the old dof map (issue 12 item 5: no blocking set-up per cut; the

@@ -150,6 +150,8 @@ private:
     double m_divergence_limit = 0;
     // Work arrays, reused between steps.
     solve::SparseMatrix m_K, m_A;
+    /// The model's pattern changed since m_K last took it (assemble() renews it first).
+    bool m_K_pattern_stale = true;
     MatX3 m_v_masked; ///< assemble_step_matrix(): the velocities with fixed DOFs zeroed
     std::vector<int> m_diagonal_slot; ///< add_to_diagonal_slots(): the pattern's diagonal slots
     Index m_diagonal_nonzeros = -1;
