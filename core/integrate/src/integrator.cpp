@@ -289,11 +289,11 @@ bool Integrator::step_implicit(State& s, StepReport& report, double h) {
     // K_R every step (period 1): the kernels write cK K_R into A and sum cK K_R v as they go,
     // so no pass over K forms A (Model::assemble_step); K itself is not kept.
     const bool direct_wanted = new_stiffness && period == 1 && cK > 0;
-    // prepare() assembled at these positions already (K, f_int; or A and K v, from these
-    // velocities too): take that
+    // prepare() assembled at these positions already (K, f_int; or A and K v, which also hold
+    // its step size and velocities): take that
     const bool prepared = new_stiffness && m_prepared_x.rows() == s.x.rows()
         && m_prepared_cells == m_model->cell_version() && m_prepared_x == s.x
-        && m_prepared_direct == direct_wanted && (!m_prepared_direct || m_prepared_v == s.v);
+        && (!m_prepared_direct || (direct_wanted && h == m_prepared_h && m_prepared_v == s.v));
     m_prepared_x.resize(0, 3);
     const bool direct
         = prepared ? m_prepared_direct : direct_wanted && assemble_step_matrix(s, cK, cM, report);

@@ -127,9 +127,10 @@ bool Integrator::prepare(const State& s) {
         const double cM = 1.0 + h * m_model->material().rayleigh_mass;
         m_prepared_direct
             = m_options.stiffness_every <= 1 && cK > 0 && assemble_step_matrix(s, cK, cM, report);
-        if (m_prepared_direct)
+        if (m_prepared_direct) {
             m_prepared_v = s.v;
-        else {
+            m_prepared_h = h;
+        } else {
             assemble(s.x, m_options.force_mode, true, report);
             gather_free(s.v, m_v_r);
             m_shift = cM * m_model->reduced_mass();

@@ -145,8 +145,10 @@ private:
     MatX3 m_prepared_x;
     std::uint64_t m_prepared_cells = 0;
     /// prepare() made A and K v directly (assemble_step_matrix), at the velocities m_prepared_v
+    /// and for the step size m_prepared_h [s]
     bool m_prepared_direct = false;
     MatX3 m_prepared_v;
+    double m_prepared_h = 0;
     double m_divergence_limit = 0;
     // Work arrays, reused between steps.
     solve::SparseMatrix m_K, m_A;
