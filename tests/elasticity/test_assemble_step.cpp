@@ -1,8 +1,9 @@
 // ElasticModel::assemble_step (the implicit step's matrix without a pass over K): the kernels'
-// scaled blocks and their product with the velocities against assemble() followed by the scaling
-// and product done on the assembled K, for every kernel (batched P1 tets with both scatters,
-// hexes, 12- and 16-node merged polyhedra), partly fixed nodes, one and two threads; and the
-// refusal of the nodal volumetric term, which has no step product.
+// scaled blocks plus a diagonal term, and their product with the velocities, against assemble()
+// followed by the scaling, the diagonal and the product done on the assembled K, for every
+// kernel (batched P1 tets with both scatters, hexes, 12- and 16-node merged polyhedra), partly
+// fixed nodes, one and two threads; and the refusal of the nodal volumetric term, which has no
+// step product.
 #include "helpers.hpp"
 
 using namespace polycut;
@@ -47,9 +48,13 @@ Difference compare(const mesh::Mesh& m, const std::vector<std::uint8_t>& fixed, 
     for (std::size_t k = 0; k < fixed.size(); ++k)
         if (fixed[k])
             v.data()[k] = 0;
+    // a diagonal term of the size of the step's mass term, different per DOF
+    VecX diagonal(step.num_free_dofs());
+    for (Index r = 0; r < diagonal.size(); ++r)
+        diagonal(r) = 1e-3 * (1.0 + 0.1 * double(r % 7));
     for (int pass = 0; pass < 2; ++pass) { // cold, then warm rotations
         ref.assemble(x, ForceMode::Corotated, &K, &f_ref);
-        EXPECT_TRUE(step.assemble_step(x, ForceMode::Corotated, scale, v, A, f, kv));
+        EXPECT_TRUE(step.assemble_step(x, ForceMode::Corotated, scale, diagonal, v, A, f, kv));
     }
     EXPECT_EQ(A.nonZeros(), K.nonZeros());
     VecX v_r;
@@ -57,7 +62,7 @@ Difference compare(const mesh::Mesh& m, const std::vector<std::uint8_t>& fixed, 
     const VecX kv_ref = scale * (K * v_r);
     VecX kv_r;
     step.reduce(kv, kv_r);
-    const MatX Kd = scale * MatX(K);
+    const MatX Kd = scale * MatX(K) + MatX(diagonal.asDiagonal());
     Difference d;
     d.A = (MatX(A) - Kd).cwiseAbs().maxCoeff() / Kd.cwiseAbs().maxCoeff();
     d.f = (f - f_ref).cwiseAbs().maxCoeff() / f_ref.cwiseAbs().maxCoeff();
@@ -118,7 +123,8 @@ TEST(AssembleStep, TheNodalVolumetricTermIsRefusedAndNothingChanges) {
     deform(m, x, v);
     solve::SparseMatrix A = model.make_matrix();
     VecX f, kv;
-    EXPECT_FALSE(model.assemble_step(x, ForceMode::Corotated, 1.0, v, A, f, kv));
+    const VecX diagonal = VecX::Ones(model.num_free_dofs());
+    EXPECT_FALSE(model.assemble_step(x, ForceMode::Corotated, 1.0, diagonal, v, A, f, kv));
     EXPECT_EQ(f.size(), 0);
     EXPECT_EQ(kv.size(), 0);
     EXPECT_EQ(Eigen::Map<const VecX>(A.valuePtr(), A.nonZeros()).cwiseAbs().maxCoeff(), 0.0);

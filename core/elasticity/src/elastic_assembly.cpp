@@ -137,13 +137,16 @@ void ElasticModel::assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, Vec
     assemble_impl(x, mode, K, f_int, nullptr);
 }
 
-bool ElasticModel::assemble_step(const MatX3& x, ForceMode mode, double scale, const MatX3& v,
-    SparseMatrix& A, VecX& f_int, VecX& kv) {
-    if (m_nodal || v.rows() != x.rows())
+bool ElasticModel::assemble_step(const MatX3& x, ForceMode mode, double scale, const VecX& diagonal,
+    const MatX3& v, SparseMatrix& A, VecX& f_int, VecX& kv) {
+    if (m_nodal || v.rows() != x.rows() || diagonal.size() != m_num_free)
         return false; // the nodal term has no step product: the caller scales K itself
     kv.setZero(3 * x.rows());
     const detail::StepProduct step { scale, v.data(), kv.data() };
     assemble_impl(x, mode, &A, &f_int, &step);
+    double* values = A.valuePtr();
+    for (Index r = 0; r < m_num_free; ++r)
+        values[m_diag_slots[std::size_t(r)]] += diagonal(r);
     return true;
 }
 

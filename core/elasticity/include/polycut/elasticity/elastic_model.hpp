@@ -100,8 +100,8 @@ public:
     void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) override;
     /// Model::assemble_step: the cells' kernels scale their blocks and sum the scaled blocks
     /// times v as they scatter them (no pass over K). False with the nodal volumetric term.
-    bool assemble_step(const MatX3& x, ForceMode mode, double scale, const MatX3& v,
-        SparseMatrix& A, VecX& f_int, VecX& kv) override;
+    bool assemble_step(const MatX3& x, ForceMode mode, double scale, const VecX& diagonal,
+        const MatX3& v, SparseMatrix& A, VecX& f_int, VecX& kv) override;
 
     /// Elastic energy [J] at x: sum over cells of 1/2 u^T Ke u with the same local displacement u
     /// as the forces (Corotated: rotations of x, warm-started from the cached ones).

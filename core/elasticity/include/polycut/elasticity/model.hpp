@@ -50,12 +50,13 @@ public:
     /// cell rotations.
     virtual void assemble(const MatX3& x, ForceMode mode, SparseMatrix* K, VecX* f_int) = 0;
     /// The implicit step's matrix without a pass over K: into A (reduced, from make_matrix())
-    /// scale * K at x, into f_int (3#rows) the elastic forces as assemble(), and into kv (3#rows,
-    /// resized) scale * K v, with v (#rows x 3) the velocities [m/s], zero at fixed DOFs. The
-    /// caller adds the mass term to A's diagonal. Returns false, changing nothing, where the
-    /// model cannot (the caller then assembles K and forms A from it).
+    /// scale * K at x plus `diagonal` (#free, e.g. the step's mass term) on its diagonal, into
+    /// f_int (3#rows) the elastic forces as assemble(), and into kv (3#rows, resized) scale * K v,
+    /// with v (#rows x 3) the velocities [m/s], zero at fixed DOFs. Returns false, changing
+    /// nothing, where the model cannot (the caller then assembles K and forms A from it).
     virtual bool assemble_step(const MatX3& /*x*/, ForceMode /*mode*/, double /*scale*/,
-        const MatX3& /*v*/, SparseMatrix& /*A*/, VecX& /*f_int*/, VecX& /*kv*/) {
+        const VecX& /*diagonal*/, const MatX3& /*v*/, SparseMatrix& /*A*/, VecX& /*f_int*/,
+        VecX& /*kv*/) {
         return false;
     }
     /// Corotated stiffness re-linearized in turns (IntegratorOptions::stiffness_every = period):

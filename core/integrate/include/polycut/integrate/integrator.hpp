@@ -102,8 +102,6 @@ private:
     /// K_R v_r straight from the model's kernels (Model::assemble_step); false where the model
     /// cannot (then nothing changed).
     bool assemble_step_matrix(const State& s, double cK, double cM, StepReport& report);
-    /// A's diagonal += d (#free), through the diagonal slots cached per pattern (A sorted).
-    void add_to_diagonal_slots(solve::SparseMatrix& A, const VecX& d);
 
     elasticity::Model* m_model;
     MatX3 m_rest; ///< the model's rest rows, refreshed with the topology
@@ -155,10 +153,6 @@ private:
     /// The model's pattern changed since m_K last took it (assemble() renews it first).
     bool m_K_pattern_stale = true;
     MatX3 m_v_masked; ///< assemble_step_matrix(): the velocities with fixed DOFs zeroed
-    std::vector<int> m_diagonal_slot; ///< add_to_diagonal_slots(): the pattern's diagonal slots
-    Index m_diagonal_nonzeros = -1;
-    std::uint64_t m_diagonal_cells = 0;
-    const int* m_diagonal_outer = nullptr;
     VecX m_fint, m_fint_r, m_fext_r, m_v_r, m_rhs, m_dv, m_tmp, m_full, m_coords, m_shift;
     /// ImplicitEuler with stiffness_every > 1: steps since K_R (and A) were last assembled
     /// (-1: none valid for the current pattern)
