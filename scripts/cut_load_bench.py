@@ -132,7 +132,8 @@ def main():
         scene = json.loads(json.dumps(base))
         if cutter == "split":
             scene["method"] = "mvc"
-        scene["cutting"] = {"method": cutter}
+        # the scene's own cut settings (its budget) stay; only the cutter is chosen
+        scene["cutting"] = dict(scene.get("cutting", {}), method=cutter)
         path = os.path.join(tmp, f"{cutter}.json")
         with open(path, "w") as f:
             json.dump(scene, f)

@@ -876,7 +876,7 @@ class Runner:
         # the rest geometry) to the first frame received after it whose topology_version is
         # above the one of the last frame received before it. Only the first stroke along each
         # path counts: a re-cut need not change the topology.
-        lat_ms, lat_ticks, never, counted = [], [], 0, 0
+        lat_ms, lat_ticks, never, counted, by_sample = [], [], 0, 0, []
         keys = [s.key() for s in strokes]
         first = {}
         for i, key in enumerate(keys):
@@ -897,8 +897,10 @@ class Runner:
             lat_ms.append((hit["t"] - t_send) * 1000)
             if tick is not None:
                 lat_ticks.append(hit["tick"] - tick)
+                by_sample.append([index, k, hit["tick"] - tick])
         res["latency"] = {"samples_cutting": counted, "never_visible": never,
-                          "ms": dist(lat_ms), "ticks": dist(lat_ticks)}
+                          "ms": dist(lat_ms), "ticks": dist(lat_ticks),
+                          "by_sample": by_sample}
 
     def judge(self, res, case):
         a = self.args
