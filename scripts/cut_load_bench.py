@@ -6,10 +6,15 @@ run: the reply's wall time, the ticks the cut took, the worst frame interval and
 stream during the cut, get_stats' worst tick, and the cut's completion state.
 
     scripts/cut_load_bench.py POLYCUT_SERVER [--sizes 500,2000,4000] [--cutters snap,split]
-        [--shapes stroke,random] [--json OUT] [--record-dir DIR]
+        [--shapes stroke,random] [--scene SCENE.json] [--json OUT] [--record-dir DIR]
 
 Shapes: `stroke` = a coherent quarter-circle stroke through the block (T/2 samples, 2
 triangles each, down to 2 cm deep); `random` = T random triangles of ~1 cm in the block.
+With --scene (instead of assets/scenes/default.json, the 10 x 10 x 5 cm block) the shapes are
+placed by the affine map of the block's box onto the scene's bounding box (get_surface's
+positions before the cut), so the same cut runs through an organ. Also per run: the frame
+rate and the worst step over the second after the cut is done (a cut that leaves a model the
+tick cannot step slows every subscriber for good).
 """
 
 import argparse
@@ -53,7 +58,18 @@ def random_tris(T, seed=1):
     return tris
 
 
-def run(exe, scene_path, cutter, shape, T, record_dir=None):
+# The default block's box, in which the shapes above are drawn [m].
+BLOCK_LO = np.array([-0.05, -0.05, 0.0])
+BLOCK_SIZE = np.array([0.1, 0.1, 0.05])
+
+
+def placed(tris, lo, hi):
+    """The triangles moved from the default block's box onto the box [lo, hi]."""
+    scale = (np.asarray(hi) - np.asarray(lo)) / BLOCK_SIZE
+    return [[list(np.asarray(lo) + (np.asarray(p) - BLOCK_LO) * scale) for p in t] for t in tris]
+
+
+def run(exe, scene_path, cutter, shape, T, record_dir=None, place=False):
     extra = []
     if record_dir:
         # a command log per case, for `polycut-server --replay LOG --trace`
@@ -70,6 +86,11 @@ def run(exe, scene_path, cutter, shape, T, record_dir=None):
     while sub.poll(0):
         sub.recv_multipart()
     tris = stroke(T) if shape == "stroke" else random_tris(T)
+    if place:
+        at = rpc.get_surface(timeout=120)["positions"]
+        tris = placed(tris, at.min(axis=0), at.max(axis=0))
+        while sub.poll(0):
+            sub.recv_multipart()
     t0 = time.perf_counter()
     # Bulk arrays go in a binary frame (docs/protocol.md, Messages and frames).
     data = np.asarray(tris, dtype="<f4")
@@ -98,6 +119,7 @@ def run(exe, scene_path, cutter, shape, T, record_dir=None):
     sub.close(0)
     rpc.close()
     during = [f for f in frames if done_t is None or f[0] <= done_t]
+    after = [f for f in frames if done_t is not None and f[0] > done_t]
     gaps = [1000 * (b[0] - a[0]) for a, b in zip(during, during[1:])]
     deferred_ticks = sum(1 for f in during if f[3] > 0)
     res = reply.get("result") if reply else None
@@ -113,6 +135,8 @@ def run(exe, scene_path, cutter, shape, T, record_dir=None):
         "frame_gap_ms_p99": round(float(np.percentile(gaps, 99)), 1) if gaps else None,
         "step_ms_max": max((f[2] or 0) for f in during) if during else None,
         "worst_tick_ms": stats["worst_tick_ms"], "ticks_over_budget": stats["ticks_over_budget"],
+        "after_frames_per_s": round(len(after) / (after[-1][0] - done_t), 1) if after else None,
+        "after_step_ms_max": round(max((f[2] or 0) for f in after), 1) if after else None,
     }
 
 
@@ -124,8 +148,10 @@ def main():
     ap.add_argument("--shapes", default="stroke,random")
     ap.add_argument("--json")
     ap.add_argument("--record-dir", help="write each case's command log here (for --replay)")
+    ap.add_argument("--scene", help="scene file instead of the default block")
     args = ap.parse_args()
-    base = json.load(open(os.path.join(HERE, "..", "assets", "scenes", "default.json")))
+    base = json.load(open(args.scene or os.path.join(HERE, "..", "assets", "scenes",
+                                                     "default.json")))
     out = []
     tmp = tempfile.mkdtemp(prefix="polycut_cutbench_")
     for cutter in args.cutters.split(","):
@@ -139,7 +165,8 @@ def main():
             json.dump(scene, f)
         for shape in args.shapes.split(","):
             for T in (int(t) for t in args.sizes.split(",")):
-                r = run(args.server, path, cutter, shape, T, args.record_dir)
+                r = run(args.server, path, cutter, shape, T, args.record_dir,
+                        place=args.scene is not None)
                 print(json.dumps(r), flush=True)
                 out.append(r)
     if args.json:

@@ -95,11 +95,16 @@ TEST(SimulationCut, StaticSceneFixesAPieceCutFree) {
 }
 
 TEST(SimulationCut, ACutPastTheModelGrowthLimitIsUndone) {
-    // cutting.max_model_growth bounds the stiffness nonzeros a cut may leave (a soup of
-    // triangles would make cells of ~100 nodes): past it the cut is undone and reported, and
-    // the simulation goes on with the model as it was. Any split adds nodes and nonzeros, so a
-    // limit of 1.0001 refuses this one; the default (8) takes it.
+    // cutting.max_model_growth bounds what a step costs after a cut (a soup of triangles would
+    // make cells of ~100 nodes): past it the cut is undone and reported, and the simulation goes
+    // on with the model as it was. Any split adds nodes and nonzeros, so a limit of 1.0001
+    // refuses this one; the default (4) takes it. A block of 3,600 tets: below ~3,500 tets'
+    // entries a model is never refused (ModelGrowth.*).
     std::string text = kBlock;
+    text.replace(text.find(R"("cells": [4, 4, 4], "elements": "hex")"),
+        std::string(R"("cells": [4, 4, 4], "elements": "hex")").size(),
+        R"("cells": [10, 10, 6], "elements": "tet")");
+    const std::string loose_text = text;
     text.insert(text.rfind('}'), R"(, "cutting": {"max_model_growth": 1.0001})");
     sim::Simulation tight(scene::parse_scene(text));
     tight.step();
@@ -122,9 +127,9 @@ TEST(SimulationCut, ACutPastTheModelGrowthLimitIsUndone) {
     }
     EXPECT_EQ(tight.positions(), never.positions());
 
-    sim::Simulation loose(scene::parse_scene(kBlock));
+    sim::Simulation loose(scene::parse_scene(loose_text));
     loose.step();
     const sim::CutSummary applied = loose.cut(full_sweep(0.0125));
-    EXPECT_EQ(applied.status, sim::CutSummary::Status::Applied) << applied.reason;
+    EXPECT_TRUE(applied.ok()) << applied.reason; // the first of it, as the cell budget allows
     EXPECT_TRUE(applied.topology_changed);
 }

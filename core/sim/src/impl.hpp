@@ -149,7 +149,7 @@ struct Simulation::Impl {
     double initial_cell_size = 0;
     /// Entries of the uncut mesh's element matrices, sum of (3 nodes)^2 over the cells
     /// (cutting.max_model_growth)
-    double initial_element_entries = 0;
+    double initial_element_cost = 0;
     double body_volume = 0; ///< rest volume of the scene as built [m^3]
     /// Largest rest bounding-box diagonal of a cell of the uncut mesh [m]: how far a material
     /// point can be from its nearest node (pick()).

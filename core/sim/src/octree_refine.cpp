@@ -127,7 +127,7 @@ int Simulation::Impl::refine_octree(StepReport& report) {
     scene_forces = scene_loads(scene, mesh);
     model = std::make_unique<elasticity::ElasticModel>(
         mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
-    initial_element_entries = element_entries(mesh); // what cuts grow from
+    initial_element_cost = element_cost(mesh); // what cuts grow from
     integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
     if (contact)
         integrator->set_penalty_field(contact.get());

@@ -127,8 +127,8 @@ MeshStats Simulation::mesh_stats() const {
     st.cut_area = a.cut_area;
     st.swept_area = a.swept_area;
     st.swept_area_undone = a.swept_area_undone;
-    if (m_impl->initial_element_entries > 0)
-        st.model_growth = element_entries(m) / m_impl->initial_element_entries;
+    if (m_impl->initial_element_cost > 0)
+        st.model_growth = element_cost(m) / m_impl->initial_element_cost;
     return st;
 }
 

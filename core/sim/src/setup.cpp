@@ -225,11 +225,18 @@ integrate::IntegratorOptions integrator_options(const scene::Scene& s) {
     return o;
 }
 
-double element_entries(const mesh::Mesh& m) {
-    double entries = 0;
-    for (const mesh::Cell& c : m.cells)
-        entries += 9.0 * double(c.nodes.size()) * double(c.nodes.size());
-    return entries;
+double element_cost(const mesh::Mesh& m) {
+    // Per entry, a cell of any other kind (a cut polyhedron, a hex) costs this many times a
+    // tet's, which the batched P1 kernel assembles: a 2,000-triangle soup split through
+    // organ_5k, assembly 0.97 ns per tet entry and 3.9 per polyhedron entry (r over 285 ticks),
+    // each PCG iteration 0.34 and 1.65 (docs/perf.md 2026-12-05 fifteenth).
+    constexpr double kGeneralCellWeight = 4.0;
+    double cost = 0;
+    for (const mesh::Cell& c : m.cells) {
+        const double n = double(c.nodes.size());
+        cost += (c.nodes.size() == 4 ? 1.0 : kGeneralCellWeight) * 9.0 * n * n;
+    }
+    return cost;
 }
 
 } // namespace polycut::sim

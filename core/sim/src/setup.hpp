@@ -31,9 +31,11 @@ VecX scene_loads(const scene::Scene& s, const mesh::Mesh& m);
 /// dt exceeds its stability limit on this model (integrate::semi_implicit_limit), naming it.
 void check_time_step(const scene::Scene& s, const elasticity::ElasticModel& model);
 
-/// Entries of the cells' element stiffness matrices, the sum of (3 nodes)^2: what assembling
-/// costs and what the stiffness pattern grows with (cutting.max_model_growth).
-double element_entries(const mesh::Mesh& m);
+/// What a step on the mesh costs, in entries of tet element matrices: the sum over cells of
+/// (3 nodes)^2, a cell other than a tet weighted 4 (its entries are assembled by the general
+/// kernel, and a cut polyhedron's nodes share fewer cells, so its entries add more stiffness
+/// nonzeros per PCG iteration). What cutting.max_model_growth bounds (MeshStats::model_growth).
+double element_cost(const mesh::Mesh& m);
 
 /// Node nearest to a rest-space point among nodes used by cells.
 Index nearest_node(const mesh::Mesh& m, const Vec3& X);

@@ -75,7 +75,7 @@ void Simulation::Impl::build() {
         model = std::make_unique<elasticity::ElasticModel>(
             mesh, elasticity_material(scene), basis_options(scene), node_fixed_mask);
         clock.lap(build_parts, "model", true);
-        initial_element_entries = element_entries(mesh);
+        initial_element_cost = element_cost(mesh);
         integrator = std::make_unique<integrate::Integrator>(*model, integrator_options(scene));
         check_time_step(scene, *model); // refuses a step an explicit integrator cannot take
     }

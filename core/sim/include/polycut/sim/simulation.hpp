@@ -125,8 +125,9 @@ struct MeshStats {
     /// Rest-space area the blade swept inside the uncut tissue in cuts that were undone (a cut
     /// that failed, or the cuts a failed step took back) [m^2]: uncut, but swept.
     double swept_area_undone = 0;
-    /// The cells' element matrix entries, sum of (3 nodes)^2, over the uncut mesh's: what the
-    /// cuts added to the cost of assembling (cutting.max_model_growth bounds it); 1 uncut.
+    /// What a step costs over the uncut mesh's (the cells' element matrix entries, the sum of
+    /// (3 nodes)^2, a cell other than a tet weighted 4: what assembling and each PCG iteration
+    /// grow with; cutting.max_model_growth bounds it); 1 uncut.
     double model_growth = 1;
     /// cut_area / (2 (swept_area + swept_area_undone)): 1 when the cut opened exactly what the
     /// blade swept (issue 12 item 4); 0 before any cut.
