@@ -96,12 +96,18 @@ void State::rebuild() {
     for (Index c = 0; c < m.num_cells(); ++c)
         volume0 += at(cell_volume, c) = tet_volume(m, c);
     volume_now = volume0;
+    max_edge = 0;
+    for (const mesh::Cell& c : m.cells)
+        for (std::size_t i = 0; i < c.nodes.size(); ++i)
+            for (std::size_t j = i + 1; j < c.nodes.size(); ++j)
+                max_edge = std::max(max_edge, (X(c.nodes[i]) - X(c.nodes[j])).norm());
     grid = {};
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
     deferred.clear();
     pending.clear();
+    last_dissected = {};
     recent.clear();
     swept.clear();
     box.assign(m.cells.size(), {});
@@ -336,6 +342,7 @@ void SnapCutter::end_sweep() {
     s.selected.assign(s.m.cells.size(), 0);
     s.deferred.clear();
     s.pending.clear();
+    s.last_dissected = {};
     s.recent.clear();
     s.swept.clear();
     s.swept_memo.clear();
@@ -346,8 +353,13 @@ CutReport SnapCutter::finish_sweep() {
     auto& s = m_impl->s;
     CutReport report;
     s.begin(report);
-    if (!s.pending.empty())
-        snap::open_pinches(s, true);
+    if (!s.pending.empty()) {
+        // Every face held back is looked at once more (each triangle looked only at those it
+        // could have freed), then the ones still pinched are cut with their edges split.
+        snap::dissect_pending(s, true);
+        if (!s.pending.empty())
+            snap::open_pinches(s, true);
+    }
     s.end();
     end_sweep();
     report.elapsed_ms = watch.ms();

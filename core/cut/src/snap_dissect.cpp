@@ -18,6 +18,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace polycut::cut::snap {
@@ -310,16 +311,92 @@ void split_node(State& s, Index n) {
     }
 }
 
-void dissect_pending(State& s) {
+namespace {
+// The pending faces that the current triangle (State::swept's last) can affect: those in a
+// cluster of pending faces (joined through shared nodes) of which some node lies within two
+// longest edges of its box. What decides whether a face is held back (the pinch of its edges:
+// the tets and cut faces around their end nodes, and whether the sweep has passed all around
+// them) changes only where the triangle selects, snaps and dissects, within about a cell of
+// it, or sweeps, within the pinch clearance (at most a longest edge) of the nodes it frees;
+// and the faces of a cluster decide together, those of different clusters apart (no face or
+// tet around an edge of one has a node of another). A cluster farther away was held back by
+// the previous triangle in the same state and keeps waiting untouched: each triangle then costs
+// what lies near it, not every face the sweep holds back (a random soup through the 5k organ
+// held back hundreds, and each triangle re-checked them all). The clusters near the faces the
+// previous triangle cut are looked at again too: holding back is greedy (a face dropped for a
+// pinch is not taken back in the same pass), so a cluster settles over a few triangles, and
+// only one whose last look cut nothing is left as it is.
+std::vector<Index> near_clusters(
+    const State& s, const std::vector<Index>& faces, const geometry::Aabb& previous) {
+    if (s.swept.empty())
+        return faces;
+    const double reach = 2 * s.max_edge;
+    const auto grown = [&](geometry::Aabb b) {
+        if (!b.empty()) {
+            b.lo.array() -= reach;
+            b.hi.array() += reach;
+        }
+        return b;
+    };
+    const geometry::Aabb box = grown(s.swept.back().box), again = grown(previous);
+    const auto inside = [](const geometry::Aabb& b, const Vec3& x) {
+        return !b.empty() && (x.array() >= b.lo.array()).all() && (x.array() <= b.hi.array()).all();
+    };
+    Dsu d(faces.size());
+    std::unordered_map<Index, std::size_t> first; // node -> a face having it
+    first.reserve(3 * faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        for (Index n : at(s.m.faces, faces[i]).nodes)
+            if (const auto [it, fresh] = first.emplace(n, i); !fresh)
+                d.join(i, it->second);
+    std::vector<char> hit(faces.size(), 0);
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        for (Index n : at(s.m.faces, faces[i]).nodes)
+            if (inside(box, s.X(n)) || inside(again, s.X(n)))
+                hit[d.find(i)] = 1;
+    std::vector<Index> out;
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        if (hit[d.find(i)])
+            out.push_back(faces[i]);
+    return out;
+}
+} // namespace
+
+void dissect_pending(State& s, bool everything) {
     std::unordered_set<Index> take;
-    std::vector<Index> order;
+    std::vector<Index> all;
     for (Index f : s.pending)
         if (!at(s.m.faces, f).boundary() && take.insert(f).second)
-            order.push_back(f);
-    if (order.empty()) {
+            all.push_back(f);
+    if (all.empty()) {
         s.pending.clear();
         return;
     }
+    const geometry::Aabb previous = s.last_dissected;
+    s.last_dissected = {};
+    std::vector<Index> order = everything ? all : near_clusters(s, all, previous);
+    if (order.empty()) {
+        s.pending = std::move(all);
+        return;
+    }
+    const bool partial = order.size() < all.size();
+    std::unordered_set<Index> near;
+    if (partial) {
+        take.clear();
+        take.insert(order.begin(), order.end());
+        near = take;
+    }
+    // Faces of far clusters stay pending, in their place in the selection order.
+    const auto with_far = [&](std::vector<Index> still) {
+        if (!partial)
+            return still;
+        const std::unordered_set<Index> now(still.begin(), still.end());
+        std::vector<Index> kept;
+        for (Index f : all)
+            if (!near.count(f) || now.count(f))
+                kept.push_back(f);
+        return kept;
+    };
     // Hold back faces until no edge of a taken face is pinched. Holding a face back can only
     // pinch edges at its own nodes, so only faces sharing a node with it are re-checked.
     const Pinch pinch { s, take };
@@ -392,6 +469,8 @@ void dissect_pending(State& s) {
         face.neighbour = kNone;
         face.tag = mesh::FaceTag::Cut;
         nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
+        for (Index n : face.nodes)
+            s.last_dissected.extend(s.X(n));
         const Index g = s.m.num_faces();
         s.m.faces.push_back(std::move(twin));
         replace_node(at(s.m.cells, y).faces, f, g);
@@ -399,16 +478,16 @@ void dissect_pending(State& s) {
         s.touch(y);
         ++s.stats.faces_dissected;
     }
-    s.pending = std::move(still);
+    s.pending = with_far(std::move(still));
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     for (Index n : nodes)
         split_node(s, n);
     if (!s.pending.empty())
-        open_pinches(s);
+        open_pinches(s, false, partial ? &near : nullptr);
 }
 
-void open_pinches(State& s, bool force) {
+void open_pinches(State& s, bool force, const std::unordered_set<Index>* only) {
     // Pending faces whose pinched edges all lie where the sweep has passed all around, chosen
     // greedily: cutting a face can pinch only its own edges, and only cuts at a node can split
     // its star, so faces chosen earlier stay resolved by their own edge splits.
@@ -419,6 +498,10 @@ void open_pinches(State& s, bool force) {
         const mesh::Face& face = at(s.m.faces, f);
         if (face.boundary())
             continue;
+        if (only && !only->count(f)) {
+            rest.push_back(f);
+            continue;
+        }
         chosen.insert(f);
         const Pinch pinch { s, chosen };
         std::vector<std::pair<Index, Index>> mine;
@@ -474,6 +557,8 @@ void open_pinches(State& s, bool force) {
                     at(md.labels, c)[k] = std::uint8_t(mesh::FaceTag::Cut);
         }
         nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
+        for (Index n : face.nodes)
+            s.last_dissected.extend(s.X(n));
         ++s.stats.faces_dissected;
     }
     for (const auto& [a, b] : edges) {

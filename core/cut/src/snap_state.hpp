@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <unordered_set>
 #include <unordered_map>
 #include <vector>
 
@@ -45,6 +46,9 @@ struct State {
     CutReport* report = nullptr;
 
     double L = 1; ///< rest bounding-box diagonal [m]
+    /// Longest tet edge at the last rebuild() [m]: how far from a triangle a held-back face can
+    /// still be affected by it (dissect_pending).
+    double max_edge = 0;
     Vec3 center; ///< rest bounding-box centre [m]
     double volume0 = 0; ///< rest volume when bound [m^3] (budget of degeneracy removal)
     /// Rest volume after the last call [m^3]: the next call's volume before (the mesh is
@@ -59,6 +63,9 @@ struct State {
     /// after each triangle of the stroke.
     std::vector<Index> deferred;
     std::vector<Index> pending; ///< selected interior faces not dissected yet, in selection order
+    /// Rest bounds of the nodes of the faces the last dissect_pending() cut [m] (empty: none):
+    /// held-back faces there may have come free (dissect_pending looks at them again).
+    geometry::Aabb last_dissected;
     std::vector<Index> near; ///< tets whose bounds overlap the current triangle
     std::vector<SweepPlane> recent; ///< the last triangles of the sweep, newest last
     /// Every triangle of the current sweep (cleared by end_sweep): where the blade has passed,
@@ -175,12 +182,15 @@ std::vector<Index> select_swept_faces(State& s, const SweepPlane& plane);
 /// triangle of State::swept parallel to `plane` and inside it.
 bool on_swept_surface(const State& s, const SweepPlane& plane, const Vec3& x);
 
-// snap_dissect.cpp: dissects the pending faces that do not pinch an edge.
-void dissect_pending(State& s);
+// snap_dissect.cpp: dissects the pending faces that do not pinch an edge: those the current
+// triangle can have freed, or with `all` every one (the end of a sweep).
+void dissect_pending(State& s, bool all = false);
 
 /// Cuts pending faces held back at pinched edges where the sweep has passed all around those
-/// edges: the edges are split at their midpoints and the faces dissected.
-void open_pinches(State& s, bool force = false);
+/// edges: the edges are split at their midpoints and the faces dissected. With `only`, just the
+/// pending faces it holds are looked at (the others keep waiting).
+void open_pinches(
+    State& s, bool force = false, const std::unordered_set<Index>* only = nullptr);
 
 /// Duplicates node n once per group of its tets not connected through interior faces at n.
 void split_node(State& s, Index n);
