@@ -362,3 +362,48 @@ TEST(SnapCut, ARandomSoupsWorkCountsItsPinchChecksAndSweepTestsAndTheBudgetStops
     EXPECT_EQ(done, soup.size());
     EXPECT_GE(calls, 3);
 }
+
+TEST(SnapCut, AFarTriangleLeavesTheFacesHeldBackElsewhereAsTheyWere) {
+    // A random soup in one corner of the block holds faces back (their edges would pinch). A
+    // triangle cut in the opposite corner (beyond two longest edges of them) cannot free them:
+    // it looks at none of them (no pinch check), they stay held, and the end of the sweep looks
+    // at all of them again and leaves the same mesh as a sweep without the far triangle, up to
+    // that triangle's own cut.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> in(0.01, 0.03), off(-0.01, 0.01);
+    std::vector<cut::Triangle> soup;
+    for (int k = 0; k < 12; ++k) {
+        const Vec3 c(in(rng), in(rng), in(rng));
+        soup.push_back({ c + Vec3(off(rng), off(rng), off(rng)),
+            c + Vec3(off(rng), off(rng), off(rng)), c + Vec3(off(rng), off(rng), off(rng)) });
+    }
+    auto a = tet_block(10), b = tet_block(10);
+    const double v0 = a.rest_volume();
+    cut::SnapCutter ca(a), cb(b);
+    Index checks = 0;
+    for (std::size_t i = 0; i < soup.size(); ++i) {
+        ca.cut(std::span(&soup[i], 1));
+        checks += ca.stats().pinch_checks;
+        cb.cut(std::span(&soup[i], 1));
+    }
+    ASSERT_GT(checks, 0) << "the soup should hold faces back";
+    // The opposite corner (x, y, z > 7 cm): > 4 cm from the soup's nodes; 2 longest edges of
+    // the 1 cm Kuhn cells are 3.5 cm.
+    const auto far = square(Vec3(0.085, 0.085, 0.085), Vec3::UnitX(), Vec3(0, 1, 1).normalized(),
+        0.012);
+    const cut::CutReport r = ca.cut(far);
+    EXPECT_FALSE(r.cut_faces.empty());
+    // Its pinch checks are those of its own faces: the same triangle on an uncut block.
+    auto c = tet_block(10);
+    cut::SnapCutter cc(c);
+    cc.cut(far);
+    EXPECT_EQ(ca.stats().pinch_checks, cc.stats().pinch_checks);
+    // The soup's held faces are left for the end of the sweep, which cuts them as the sweep
+    // without the far triangle does.
+    const cut::CutReport end_a = ca.finish_sweep(), end_b = cb.finish_sweep(),
+                         end_c = cc.finish_sweep();
+    EXPECT_TRUE(expect_ok(a, v0).ok());
+    EXPECT_TRUE(expect_ok(b, v0).ok());
+    EXPECT_GT(end_b.cut_faces.size(), 0u);
+    EXPECT_EQ(end_a.cut_faces.size(), end_b.cut_faces.size() + end_c.cut_faces.size());
+}
