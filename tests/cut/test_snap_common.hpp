@@ -23,6 +23,20 @@ inline mesh::Mesh tet_block(int n, double size = 0.1) {
     return mesh::tet_grid(g, mesh::TetSplit::Kuhn6);
 }
 
+/// n random triangles: centres uniform in [lo, hi]^3, corners within `half` of them per axis.
+inline std::vector<cut::Triangle> random_soup(
+    unsigned seed, int n, double lo, double hi, double half) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> in(lo, hi), off(-half, half);
+    std::vector<cut::Triangle> soup;
+    for (int k = 0; k < n; ++k) {
+        const Vec3 c(in(rng), in(rng), in(rng));
+        soup.push_back({ c + Vec3(off(rng), off(rng), off(rng)),
+            c + Vec3(off(rng), off(rng), off(rng)), c + Vec3(off(rng), off(rng), off(rng)) });
+    }
+    return soup;
+}
+
 /// Two triangles covering the square through `o` spanned by unit u, v (half-size r).
 inline std::vector<cut::Triangle> square(const Vec3& o, const Vec3& u, const Vec3& v, double r) {
     const Vec3 a = o - r * u - r * v, b = o + r * u - r * v, c = o + r * u + r * v,

@@ -322,14 +322,7 @@ TEST(SnapCut, ARandomSoupsWorkCountsItsPinchChecksAndSweepTestsAndTheBudgetStops
     // The same soup under a budget of a quarter of it stops each call once the call's work
     // reaches the budget, so it takes several calls, every one but the last at the budget, and
     // every triangle is cut once.
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> in(0.01, 0.09), off(-0.02, 0.02);
-    std::vector<cut::Triangle> soup;
-    for (int k = 0; k < 60; ++k) {
-        const Vec3 c(in(rng), in(rng), in(rng));
-        soup.push_back({ c + Vec3(off(rng), off(rng), off(rng)),
-            c + Vec3(off(rng), off(rng), off(rng)), c + Vec3(off(rng), off(rng), off(rng)) });
-    }
+    const std::vector<cut::Triangle> soup = random_soup(7, 60, 0.01, 0.09, 0.02);
     auto whole = tet_block(6);
     const double v0 = whole.rest_volume();
     cut::SnapCutter one(whole);
@@ -369,14 +362,7 @@ TEST(SnapCut, AFarTriangleLeavesTheFacesHeldBackElsewhereAsTheyWere) {
     // it looks at none of them (no pinch check), they stay held, and the end of the sweep looks
     // at all of them again and leaves the same mesh as a sweep without the far triangle, up to
     // that triangle's own cut.
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> in(0.01, 0.03), off(-0.01, 0.01);
-    std::vector<cut::Triangle> soup;
-    for (int k = 0; k < 12; ++k) {
-        const Vec3 c(in(rng), in(rng), in(rng));
-        soup.push_back({ c + Vec3(off(rng), off(rng), off(rng)),
-            c + Vec3(off(rng), off(rng), off(rng)), c + Vec3(off(rng), off(rng), off(rng)) });
-    }
+    const std::vector<cut::Triangle> soup = random_soup(3, 12, 0.01, 0.03, 0.01);
     auto a = tet_block(10), b = tet_block(10);
     const double v0 = a.rest_volume();
     cut::SnapCutter ca(a), cb(b);
@@ -389,8 +375,8 @@ TEST(SnapCut, AFarTriangleLeavesTheFacesHeldBackElsewhereAsTheyWere) {
     ASSERT_GT(checks, 0) << "the soup should hold faces back";
     // The opposite corner (x, y, z > 7 cm): > 4 cm from the soup's nodes; 2 longest edges of
     // the 1 cm Kuhn cells are 3.5 cm.
-    const auto far = square(Vec3(0.085, 0.085, 0.085), Vec3::UnitX(), Vec3(0, 1, 1).normalized(),
-        0.012);
+    const auto far
+        = square(Vec3(0.085, 0.085, 0.085), Vec3::UnitX(), Vec3(0, 1, 1).normalized(), 0.012);
     const cut::CutReport r = ca.cut(far);
     EXPECT_FALSE(r.cut_faces.empty());
     // Its pinch checks are those of its own faces: the same triangle on an uncut block.

@@ -9,8 +9,8 @@
 
 #include <array>
 #include <cstdint>
-#include <unordered_set>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace polycut::cut::snap {
@@ -189,8 +189,7 @@ void dissect_pending(State& s, bool all = false);
 /// Cuts pending faces held back at pinched edges where the sweep has passed all around those
 /// edges: the edges are split at their midpoints and the faces dissected. With `only`, just the
 /// pending faces it holds are looked at (the others keep waiting).
-void open_pinches(
-    State& s, bool force = false, const std::unordered_set<Index>* only = nullptr);
+void open_pinches(State& s, bool force = false, const std::unordered_set<Index>* only = nullptr);
 
 /// Duplicates node n once per group of its tets not connected through interior faces at n.
 void split_node(State& s, Index n);
