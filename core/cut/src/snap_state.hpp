@@ -183,8 +183,8 @@ std::vector<Index> select_swept_faces(State& s, const SweepPlane& plane);
 bool on_swept_surface(const State& s, const SweepPlane& plane, const Vec3& x);
 
 // snap_dissect.cpp: dissects the pending faces that do not pinch an edge: those the current
-// triangle can have freed, or with `all` every one (the end of a sweep).
-void dissect_pending(State& s, bool all = false);
+// triangle can have freed, or with `everything` all of them (the end of a sweep).
+void dissect_pending(State& s, bool everything = false);
 
 /// Cuts pending faces held back at pinched edges where the sweep has passed all around those
 /// edges: the edges are split at their midpoints and the faces dissected. With `only`, just the
