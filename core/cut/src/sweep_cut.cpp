@@ -75,14 +75,18 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
     // candidates for the crack as they are.
     std::vector<Index> to_split, plane_faces;
     const Index ncells = m.num_cells();
-    for (Index c = 0; c < ncells; ++c) {
+    // The cells whose grown bounds can reach the triangle (Editor::cells_near, a superset in
+    // id order): the tests below then run as over every cell (on the 5k organ the pass over
+    // all 27k cells per triangle was half of the cutter's time in a re-cut).
+    const std::vector<Index> near = ed.cells_near(tbox, kSweepReach * ed.opt.snap, ncells);
+    for (Index c : near) {
         geometry::Aabb box = ed.bounds(c);
         // A cell's thickness 6 V / A is at most twice its box's diagonal (V = 1/3 sum_f A_f
         // (x_f - o).n_f with o in the box), so this box, grown by that bound, is a superset
         // test, and the thickness (a pass over the cell's faces) is computed only for the cells
         // near the triangle. Computed for every cell, it cost the first triangle of a stroke
         // on the 5k organ ~16 ms (its splitting 26.8 -> 10.3 ms; later triangles ~0.6 ms).
-        const double reach = 2.0 * ed.opt.snap * (box.hi - box.lo).norm();
+        const double reach = kSweepReach * ed.opt.snap * (box.hi - box.lo).norm();
         if (tbox.lo.x() > box.hi.x() + reach || tbox.hi.x() < box.lo.x() - reach
             || tbox.lo.y() > box.hi.y() + reach || tbox.hi.y() < box.lo.y() - reach
             || tbox.lo.z() > box.hi.z() + reach || tbox.hi.z() < box.lo.z() - reach)
