@@ -32,7 +32,7 @@ void expect_superset(cut::detail::Editor& ed, std::mt19937& rng, double reach, i
         box.extend(lo);
         box.extend(lo + Vec3(size(rng), size(rng), size(rng)));
         const Index limit = ed.m.num_cells();
-        const std::vector<Index> near = ed.cells_near(box, reach, limit);
+        const std::vector<Index> near = ed.cells_near(box, limit);
         ASSERT_TRUE(std::is_sorted(near.begin(), near.end()));
         ASSERT_TRUE(std::adjacent_find(near.begin(), near.end()) == near.end());
         for (Index c : brute(ed, box, reach, limit))

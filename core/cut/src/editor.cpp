@@ -22,7 +22,7 @@ Editor::Editor(mesh::Mesh& mesh, const CutOptions& options)
     m_cell_size = m.num_cells() > 0 ? std::cbrt(volume / double(m.num_cells())) : 0.0;
     // cells_near()'s grid now, with the reach split_along_triangle asks for: the pipeline makes
     // its cutter at load (CutPipeline::prepare), so the first cut of a stroke does not pay it.
-    build_grid(kSweepReach * opt.snap);
+    build_grid();
 }
 
 void Editor::rebuild() {
@@ -33,11 +33,11 @@ void Editor::rebuild() {
     m_thickness.assign(nc, std::numeric_limits<double>::quiet_NaN());
     m_changed.assign(nc, 0);
     m_changed_list.clear();
-    m_grid.ok = false;
+    m_grid.invalidate();
 }
 
 void Editor::renumber(const std::vector<Index>& cell_map) {
-    m_grid.ok = false;
+    m_grid.invalidate();
     const std::size_t nc = m.cells.size();
     std::vector<geometry::Aabb> bounds(nc);
     std::vector<char> bounds_ok(nc, 0);
@@ -116,10 +116,7 @@ void Editor::touch(Index c) {
     }
     at(m_bounds_ok, c) = 0;
     at(m_thickness, c) = std::numeric_limits<double>::quiet_NaN();
-    if (m_grid.ok && c < m_grid.built && !at(m_grid.in_dirty, c)) {
-        at(m_grid.in_dirty, c) = 1;
-        m_grid.dirty.push_back(c);
-    }
+    m_grid.touch(c);
     if (!at(m_changed, c)) {
         at(m_changed, c) = 1;
         m_changed_list.push_back(c);
@@ -139,93 +136,21 @@ const geometry::Aabb& Editor::bounds(Index c) {
     return at(m_bounds, c);
 }
 
-void Editor::build_grid(double reach) {
-    Grid& g = m_grid;
-    const Index nc = m.num_cells();
-    std::vector<geometry::Aabb> grown(static_cast<std::size_t>(nc));
-    geometry::Aabb all;
-    for (Index c = 0; c < nc; ++c) {
+void Editor::build_grid() {
+    const double reach = kSweepReach * opt.snap;
+    m_grid.build(m.num_cells(), [&](Index c) {
         geometry::Aabb b = bounds(c);
         const double r = reach * (b.hi - b.lo).norm();
         b.lo.array() -= r;
         b.hi.array() += r;
-        at(grown, c) = b;
-        all.extend(b.lo);
-        all.extend(b.hi);
-    }
-    g = Grid {};
-    g.built = nc;
-    g.in_dirty.assign(std::size_t(nc), 0);
-    g.stamp.assign(std::size_t(nc), 0);
-    if (nc == 0 || all.empty()) {
-        g.ok = true;
-        return;
-    }
-    g.lo = all.lo;
-    // About one cell per bucket.
-    const Vec3 ext = (all.hi - all.lo).cwiseMax(1e-12);
-    g.h = std::max(std::cbrt(ext.prod() / double(nc)), 1e-12);
-    for (int k = 0; k < 3; ++k)
-        g.dims[std::size_t(k)] = std::clamp(int(std::ceil(ext[k] / g.h)), 1, 1024);
-    const auto cell_of = [&](double x, int k) {
-        return std::clamp(int(std::floor((x - g.lo[k]) / g.h)), 0, g.dims[std::size_t(k)] - 1);
-    };
-    const std::size_t nb = std::size_t(g.dims[0]) * std::size_t(g.dims[1]) * std::size_t(g.dims[2]);
-    g.start.assign(nb + 1, 0);
-    const auto visit = [&](const geometry::Aabb& b, const auto& f) {
-        for (int z = cell_of(b.lo.z(), 2); z <= cell_of(b.hi.z(), 2); ++z)
-            for (int y = cell_of(b.lo.y(), 1); y <= cell_of(b.hi.y(), 1); ++y)
-                for (int x = cell_of(b.lo.x(), 0); x <= cell_of(b.hi.x(), 0); ++x)
-                    f(std::size_t(x)
-                        + std::size_t(g.dims[0])
-                            * (std::size_t(y) + std::size_t(g.dims[1]) * std::size_t(z)));
-    };
-    for (Index c = 0; c < nc; ++c)
-        visit(at(grown, c), [&](std::size_t b) { ++g.start[b + 1]; });
-    for (std::size_t b = 0; b < nb; ++b)
-        g.start[b + 1] += g.start[b];
-    g.cells.resize(std::size_t(g.start[nb]));
-    std::vector<int> fill(g.start.begin(), g.start.end() - 1);
-    for (Index c = 0; c < nc; ++c)
-        visit(at(grown, c), [&](std::size_t b) { g.cells[std::size_t(fill[b]++)] = c; });
-    g.ok = true;
+        return b;
+    });
 }
 
-const std::vector<Index>& Editor::cells_near(const geometry::Aabb& box, double reach, Index limit) {
-    Grid& g = m_grid;
-    if (!g.ok || g.dirty.size() * 8 > std::size_t(g.built) + 64)
-        build_grid(reach);
-    g.found.clear();
-    if (++g.now == 0) {
-        std::fill(g.stamp.begin(), g.stamp.end(), 0);
-        g.now = 1;
-    }
-    const auto take = [&](Index c) {
-        if (c < limit && c < g.built && at(g.stamp, c) != g.now) {
-            at(g.stamp, c) = g.now;
-            g.found.push_back(c);
-        }
-    };
-    if (g.built > 0 && !box.empty()) {
-        const auto cell_of = [&](double x, int k) {
-            return std::clamp(int(std::floor((x - g.lo[k]) / g.h)), 0, g.dims[std::size_t(k)] - 1);
-        };
-        for (int z = cell_of(box.lo.z(), 2); z <= cell_of(box.hi.z(), 2); ++z)
-            for (int y = cell_of(box.lo.y(), 1); y <= cell_of(box.hi.y(), 1); ++y)
-                for (int x = cell_of(box.lo.x(), 0); x <= cell_of(box.hi.x(), 0); ++x) {
-                    const std::size_t b = std::size_t(x)
-                        + std::size_t(g.dims[0])
-                            * (std::size_t(y) + std::size_t(g.dims[1]) * std::size_t(z));
-                    for (int e = g.start[b]; e < g.start[b + 1]; ++e)
-                        take(g.cells[std::size_t(e)]);
-                }
-    }
-    for (Index c : g.dirty)
-        take(c);
-    for (Index c = g.built; c < limit; ++c)
-        g.found.push_back(c);
-    std::sort(g.found.begin(), g.found.end());
-    return g.found;
+const std::vector<Index>& Editor::cells_near(const geometry::Aabb& box, Index limit) {
+    if (!m_grid.ok() || m_grid.dirty() * 8 > std::size_t(m_grid.built()) + 64)
+        build_grid();
+    return m_grid.query(box, limit);
 }
 
 double Editor::thickness(Index c) {

@@ -3,13 +3,12 @@
 // cells, per-cell caches (bounds, thickness) and the bookkeeping of the CutReport.
 #pragma once
 
+#include "cell_grid.hpp"
 #include "polycut/cut/cut_options.hpp"
 #include "polycut/cut/cut_report.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 #include "polycut/mesh/mesh.hpp"
 
-#include <array>
-#include <cstdint>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -77,13 +76,12 @@ public:
     const std::vector<Index>& changed_cells() const { return m_changed_list; }
 
     const geometry::Aabb& bounds(Index c);
-    /// Cells below `limit` whose bounds, grown by `reach` times their diagonal, may overlap
-    /// `box`: a superset, in increasing id order (a uniform grid of the grown bounds, made when
-    /// first asked and again once many cells changed; the cells changed since, and the ones
-    /// added, are always in it). What a sweep triangle can reach without a pass over the mesh
-    /// (issue 12 item 5: a cut's work follows what it touches). `reach` must be the same on
-    /// every call until rebuild().
-    const std::vector<Index>& cells_near(const geometry::Aabb& box, double reach, Index limit);
+    /// Cells below `limit` whose bounds, grown by kSweepReach snapping distances times their
+    /// diagonal, may overlap `box`: a superset, in increasing id order (a detail::CellGrid of
+    /// the grown bounds, made with the editor and again once an eighth of the cells changed).
+    /// What a sweep triangle can reach without a pass over the mesh (issue 12 item 5: a cut's
+    /// work follows what it touches).
+    const std::vector<Index>& cells_near(const geometry::Aabb& box, Index limit);
     /// Thickness 6 V / A of cell c [m].
     double thickness(Index c);
     /// Snapping distance of node n [m].
@@ -103,22 +101,8 @@ private:
     std::vector<char> m_bounds_ok;
     std::vector<char> m_changed;
     std::vector<Index> m_changed_list;
-    /// cells_near()'s grid: bucket b holds m_grid_cells[m_grid_start[b] .. m_grid_start[b + 1]).
-    struct Grid {
-        bool ok = false;
-        Index built = 0; ///< cells when made: later ones are always candidates
-        Vec3 lo = Vec3::Zero();
-        double h = 1; ///< bucket edge [m]
-        std::array<int, 3> dims { 0, 0, 0 };
-        std::vector<int> start;
-        std::vector<Index> cells;
-        std::vector<Index> dirty; ///< cells touched since it was made
-        std::vector<char> in_dirty;
-        std::vector<std::uint32_t> stamp;
-        std::uint32_t now = 0;
-        std::vector<Index> found;
-    } m_grid;
-    void build_grid(double reach);
+    CellGrid m_grid; ///< cells_near()'s
+    void build_grid();
 };
 
 /// Position of v in loop, or -1.

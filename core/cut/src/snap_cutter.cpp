@@ -101,7 +101,7 @@ void State::rebuild() {
         for (std::size_t i = 0; i < c.nodes.size(); ++i)
             for (std::size_t j = i + 1; j < c.nodes.size(); ++j)
                 max_edge = std::max(max_edge, (X(c.nodes[i]) - X(c.nodes[j])).norm());
-    grid = {};
+    grid.invalidate();
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
@@ -228,14 +228,7 @@ const geometry::Aabb& State::bounds(Index c) {
 
 void State::touch(Index c) {
     at(box_ok, c) = 0;
-    if (grid.ok) {
-        if (std::size_t(c) >= grid.in_dirty.size())
-            grid.in_dirty.resize(m.cells.size(), 0);
-        if (!at(grid.in_dirty, c)) {
-            at(grid.in_dirty, c) = 1;
-            grid.dirty.push_back(c);
-        }
-    }
+    grid.touch(c);
     touched += at(changed, c) ? 0 : 1;
     at(changed, c) = 1;
 }

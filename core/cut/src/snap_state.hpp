@@ -4,6 +4,7 @@
 // weights of new nodes, old rest positions of moved nodes).
 #pragma once
 
+#include "cell_grid.hpp"
 #include "polycut/cut/snap_cutter.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 
@@ -93,20 +94,7 @@ struct State {
     std::vector<double> cell_volume;
     /// Spatial index of the tets' rest bounds (snap_grid.cpp): the tets a triangle can reach
     /// without a pass over the mesh (issue 12 item 5).
-    struct Grid {
-        bool ok = false; ///< false: build at the next query
-        Vec3 lo = Vec3::Zero();
-        double h = 1; ///< bucket edge [m]
-        std::array<int, 3> dims { 0, 0, 0 };
-        std::vector<int> start; ///< bucket b holds cells[start[b] .. start[b + 1])
-        std::vector<Index> cells;
-        Index built = 0; ///< tets when built: later ones are always candidates
-        std::vector<Index> dirty; ///< tets touched since the build (bounds may have moved)
-        std::vector<char> in_dirty;
-        std::vector<std::uint32_t> stamp;
-        std::uint32_t now = 0;
-        std::vector<Index> found;
-    } grid;
+    detail::CellGrid grid;
 
     // Per-call bookkeeping.
     std::vector<Index> node_old; ///< current node -> id before the call, kNone if new
@@ -129,7 +117,7 @@ struct State {
     /// bounds(c) themselves). Valid until the next call.
     const std::vector<Index>& candidates(const geometry::Aabb& b);
     /// Forgets the grid (tets renumbered).
-    void invalidate_grid() { grid.ok = false; }
+    void invalidate_grid() { grid.invalidate(); }
     void touch(Index c);
     /// Moves node n to X, recording its old position and touching its cells.
     void move_node(Index n, const Vec3& X);

@@ -78,7 +78,7 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
     // The cells whose grown bounds can reach the triangle (Editor::cells_near, a superset in
     // id order): the tests below then run as over every cell (on the 5k organ the pass over
     // all 27k cells per triangle was half of the cutter's time in a re-cut).
-    const std::vector<Index> near = ed.cells_near(tbox, kSweepReach * ed.opt.snap, ncells);
+    const std::vector<Index> near = ed.cells_near(tbox, ncells);
     for (Index c : near) {
         geometry::Aabb box = ed.bounds(c);
         // A cell's thickness 6 V / A is at most twice its box's diagonal (V = 1/3 sum_f A_f
