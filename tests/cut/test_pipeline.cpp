@@ -9,6 +9,7 @@
 #include "polycut/mesh/builders.hpp"
 #include "test_pipeline_common.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <gtest/gtest.h>
@@ -246,6 +247,34 @@ TEST_P(Pipeline, UndoGivesBackTheMeshBeforeTheLastCallExactly) {
     if (!snap) {
         EXPECT_GT(p.mirror_face_moves(), 0u);
     }
+}
+
+TEST_P(Pipeline, APreparedPipelineCutsExactlyAsOneThatBuildsOnItsFirstCall) {
+    // prepare() builds at load what the first call would build (the cutter, the world grid's
+    // flat node lists, the face-snapping cutter's grid): the cuts must not change by one bit.
+    // Under POLYCUT_CHECK_UNDO the world grid compares its flat lists with the mesh and the
+    // snap grid its candidates with a pass over every tet, at every call.
+    const bool snap = GetParam();
+    ::setenv("POLYCUT_CHECK_UNDO", "1", 1);
+    mesh::Mesh a = block(snap, 5), b = a;
+    const mesh::Mesh uncut = a;
+    CutPipeline prepared(a, uncut, options(snap)), lazy(b, uncut, options(snap));
+    prepared.prepare();
+    const std::vector<Triangle> sweep = stroke(6);
+    for (std::size_t k = 0; k < sweep.size(); k += 2) {
+        const std::span<const Triangle> sample(sweep.data() + k, 2);
+        const CutResult ra = prepared.cut(sample, a.rest), rb = lazy.cut(sample, b.rest);
+        ASSERT_EQ(ra.status, rb.status) << "sample " << k / 2;
+        ASSERT_TRUE(ra.ok()) << ra.reason;
+    }
+    prepared.end_stroke();
+    lazy.end_stroke();
+    ::unsetenv("POLYCUT_CHECK_UNDO");
+    expect_same_mesh(a, b);
+    expect_cut_invariants(a, uncut, snap);
+    EXPECT_GT(std::count_if(a.faces.begin(), a.faces.end(),
+                  [](const mesh::Face& f) { return f.tag == mesh::FaceTag::Cut; }),
+        20);
 }
 
 TEST_P(Pipeline, CountsTheInvertedTetsAroundTheBlade) {

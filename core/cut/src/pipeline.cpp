@@ -375,8 +375,13 @@ double CutPipeline::cell_size() const {
 }
 
 void CutPipeline::prepare() {
-    m_impl->ensure_cutter();
-    m_impl->rest_cells();
+    Impl& s = *m_impl;
+    s.ensure_cutter();
+    s.rest_cells();
+    // The world grid's copy of the node lists, made here and not in the first cut's tick.
+    if (!s.world_grid)
+        s.world_grid = std::make_unique<WorldToRest>(s.mesh);
+    s.world_grid->prepare();
 }
 
 void CutPipeline::undo() {

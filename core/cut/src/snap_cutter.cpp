@@ -101,7 +101,6 @@ void State::rebuild() {
         for (std::size_t i = 0; i < c.nodes.size(); ++i)
             for (std::size_t j = i + 1; j < c.nodes.size(); ++j)
                 max_edge = std::max(max_edge, (X(c.nodes[i]) - X(c.nodes[j])).norm());
-    grid.invalidate();
     node_cells = m.node_cells();
     marks.assign(m.cells.size(), { -1, -1, -1, -1, -1, -1 });
     selected.assign(m.cells.size(), 0);
@@ -112,6 +111,8 @@ void State::rebuild() {
     swept.clear();
     box.assign(m.cells.size(), {});
     box_ok.assign(m.cells.size(), 0);
+    // The grid now (at load, CutPipeline::prepare()), not in the first cut's tick.
+    grid.build(m.num_cells(), [&](Index c) { return bounds(c); });
 }
 
 void State::begin(CutReport& r) {

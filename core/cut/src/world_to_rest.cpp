@@ -50,13 +50,28 @@ void WorldToRest::refresh_flat() {
         if (m_pool.size() <= 2 * used + 4096)
             return;
     }
-    m_slot.clear();
-    m_count.clear();
-    m_room.clear();
-    m_pool.clear();
-    for (std::size_t c = 0; c < nc; ++c)
-        copy_cell(c);
+    // The whole copy sized first, then filled in one pass (cell by cell it grew four arrays
+    // 26k times: ~20 ms on the 5k organ, all of it in the first cut's tick).
+    m_slot.resize(nc);
+    m_count.resize(nc);
+    m_room.resize(nc);
+    std::size_t total = 0;
+    for (std::size_t c = 0; c < nc; ++c) {
+        const int n = int(m_mesh.cells[c].nodes.size());
+        m_slot[c] = total;
+        m_count[c] = m_room[c] = n;
+        total += std::size_t(n);
+    }
+    m_pool.resize(total);
+    for (std::size_t c = 0; c < nc; ++c) {
+        const auto& nodes = m_mesh.cells[c].nodes;
+        std::copy(nodes.begin(), nodes.end(), m_pool.begin() + std::ptrdiff_t(m_slot[c]));
+    }
     m_flat_ok = true;
+}
+
+void WorldToRest::prepare() {
+    refresh_flat();
 }
 
 void WorldToRest::cells_changed(std::span<const Index> changed, bool renumbered) {

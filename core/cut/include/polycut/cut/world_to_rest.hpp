@@ -37,6 +37,9 @@ public:
     /// that cells or nodes were renumbered (the copy is then made again from the mesh). Checked
     /// against the mesh under POLYCUT_CHECK_UNDO=1.
     void cells_changed(std::span<const Index> changed, bool renumbered);
+    /// Makes refit_near()'s flat copy of the node lists now (O(mesh)), so that the first cut
+    /// of a scene, or the first after a renumbering, does not (CutPipeline::prepare()).
+    void prepare();
     /// Same with displacements u (#N x 3) [m]: world = rest + u.
     void refit_displaced(const MatX3& u);
 
