@@ -86,32 +86,19 @@ bool remove_one(Model& md, Index c) {
         ++s.stats.needles_removed;
         return true;
     }
-    // Snapshot for undoing splits.
-    const auto cells0 = s.m.cells;
-    const auto labels0 = md.labels;
-    const auto node_cells0 = s.node_cells;
-    const auto marks0 = s.marks;
-    const auto rest_n = s.m.rest.size();
-    const auto changed0 = s.changed;
+    // The splits are recorded to be taken back if the collapse after them is refused.
+    Model::Journal journal;
+    md.begin_journal(journal);
     const auto splits0 = std::make_tuple(s.stats.edges_split, s.stats.faces_split);
     auto undo = [&]() {
-        s.m.cells = cells0;
-        md.labels = labels0;
-        s.node_cells = node_cells0;
-        s.marks = marks0;
-        s.changed = changed0;
-        for (Index n = Index(rest_n); n < s.m.num_nodes(); ++n)
-            s.new_weights.erase(n);
-        s.m.rest.resize(rest_n);
-        s.node_old.resize(rest_n);
-        const std::size_t nc = s.m.cells.size();
-        s.selected.resize(nc);
-        s.box.resize(nc);
-        s.box_ok.assign(nc, 0);
-        s.cell_old.resize(nc);
-        s.cell_parent.resize(nc);
+        md.undo_journal(journal);
         std::tie(s.stats.edges_split, s.stats.faces_split) = splits0;
     };
+    // Every return below stops the recording (or takes the edits back).
+    struct Stop {
+        Model& md;
+        ~Stop() { md.journal = nullptr; }
+    } stop { md };
     Index m1 = kNone, other = kNone;
     if (nl == 1 || nl == 2) {
         // The large-angle edge(s); split the opposite edge where it passes the large one

@@ -80,19 +80,78 @@ bool Model::cut_free(Index c) {
     return true;
 }
 
+void Model::note_cell(Index c) {
+    if (!journal || c >= journal->cells || at(journal->cell_noted, c))
+        return;
+    at(journal->cell_noted, c) = 1;
+    journal->cells_before.push_back(
+        { c, at(s.m.cells, c).nodes, at(labels, c), char(at(s.changed, c)) });
+}
+
+void Model::note_node(Index n) {
+    if (!journal || n >= journal->nodes || at(journal->node_noted, n))
+        return;
+    at(journal->node_noted, n) = 1;
+    journal->node_cells_before.emplace_back(n, at(s.node_cells, n));
+}
+
+void Model::begin_journal(Journal& j) {
+    j = Journal {};
+    j.cells = s.m.num_cells();
+    j.nodes = s.m.num_nodes();
+    j.cell_noted.assign(std::size_t(j.cells), 0);
+    j.node_noted.assign(std::size_t(j.nodes), 0);
+    journal = &j;
+}
+
+void Model::undo_journal(Journal& j) {
+    journal = nullptr;
+    for (Index n = j.nodes; n < s.m.num_nodes(); ++n)
+        s.new_weights.erase(n);
+    s.m.rest.resize(std::size_t(j.nodes));
+    s.node_old.resize(std::size_t(j.nodes));
+    s.node_cells.resize(std::size_t(j.nodes));
+    for (auto& [n, cells] : j.node_cells_before)
+        at(s.node_cells, n) = std::move(cells);
+    const std::size_t nc = std::size_t(j.cells);
+    s.m.cells.resize(nc);
+    labels.resize(nc);
+    s.marks.resize(nc);
+    s.selected.resize(nc);
+    s.box.resize(nc);
+    s.box_ok.resize(nc);
+    s.changed.resize(nc);
+    s.cell_old.resize(nc);
+    s.cell_parent.resize(nc);
+    for (auto& old : j.cells_before) {
+        at(s.m.cells, old.c).nodes = std::move(old.nodes);
+        at(labels, old.c) = old.labels;
+        at(s.changed, old.c) = old.changed;
+        at(s.box_ok, old.c) = 0;
+    }
+}
+
 void Model::set_cell(Index c, const Tet& t) {
+    note_cell(c);
     auto& nodes = at(s.m.cells, c).nodes;
-    for (Index n : nodes)
+    for (Index n : nodes) {
+        note_node(n);
         std::erase(at(s.node_cells, n), c);
+    }
     nodes.assign(t.begin(), t.end());
-    for (Index n : nodes)
+    for (Index n : nodes) {
+        note_node(n);
         at(s.node_cells, n).push_back(c);
+    }
     s.touch(c);
 }
 
 void Model::kill(Index c) {
-    for (Index n : at(s.m.cells, c).nodes)
+    note_cell(c);
+    for (Index n : at(s.m.cells, c).nodes) {
+        note_node(n);
         std::erase(at(s.node_cells, n), c);
+    }
     at(s.m.cells, c).nodes.clear();
     at(s.changed, c) = 0;
 }
@@ -142,6 +201,7 @@ Index Model::split(const std::vector<Index>& sigma, const Vec3& Xm, const Weight
                 if (k != si && in_sigma(t[k]))
                     cl[k] = kInterior; // face between two children
             if (first) {
+                note_cell(c);
                 at(labels, c) = cl;
                 set_cell(c, child);
                 first = false;
@@ -267,6 +327,7 @@ bool Model::collapse(Index u, Index v, const Vec3& Xu) {
     for (Index r : removed)
         kill(r);
     for (const auto& [c, t] : next) {
+        note_cell(c);
         at(labels, c) = lab[c];
         at(s.marks, c) = { -1, -1, -1, -1, -1, -1 };
         set_cell(c, t);
