@@ -378,6 +378,11 @@ void CutPipeline::prepare() {
     Impl& s = *m_impl;
     s.ensure_cutter();
     s.rest_cells();
+    // Room for what cuts append to the mesh, so the first cut does not move every cell and
+    // face (a no-op where the room is there).
+    s.mesh.cells.reserve(s.mesh.cells.size() + s.mesh.cells.size() / 2 + 64);
+    s.mesh.faces.reserve(s.mesh.faces.size() + s.mesh.faces.size() / 2 + 64);
+    s.mesh.rest.reserve(s.mesh.rest.size() + s.mesh.rest.size() / 2 + 64);
     // The world grid's copy of the node lists, made here and not in the first cut's tick.
     if (!s.world_grid)
         s.world_grid = std::make_unique<WorldToRest>(s.mesh);

@@ -155,6 +155,13 @@ void ElasticModel::rebuild_topology(std::vector<Index> node_map) {
     m_cells.assign(all.size(), CellData {});
     m_rotation.assign(m_cells.size(), Mat3::Identity());
     m_p1.assign(m_cells.size(), P1Cell {});
+    // Room for the cells cuts append: the first cut past an exact capacity moved every cell's
+    // data (~6 ms of the first split cut's tick on the 5k organ). Unused room is not touched.
+    const std::size_t room = all.size() + all.size() / 2 + 64;
+    m_cells.reserve(room);
+    m_rotation.reserve(room);
+    m_p1.reserve(room);
+    m_rest_extent2.reserve(room);
     commit_cells(all, std::move(made));
     rebuild_pattern();
     rebuild_mass();
