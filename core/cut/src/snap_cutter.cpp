@@ -132,6 +132,7 @@ void State::begin(CutReport& r) {
     new_weights.clear();
     moved_from.clear();
     changed.assign(m.cells.size(), 0);
+    changed_list.clear();
     touched = 0;
     sweep_tests = 0;
     duplicated.clear();
@@ -230,8 +231,21 @@ const geometry::Aabb& State::bounds(Index c) {
 void State::touch(Index c) {
     at(box_ok, c) = 0;
     grid.touch(c);
-    touched += at(changed, c) ? 0 : 1;
+    if (!at(changed, c)) {
+        ++touched;
+        changed_list.push_back(c);
+    }
     at(changed, c) = 1;
+}
+
+std::vector<Index> State::changed_cells() const {
+    std::vector<Index> out;
+    for (Index c : changed_list)
+        if (c < Index(changed.size()) && at(changed, c))
+            out.push_back(c);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 void State::move_node(Index n, const Vec3& Xn) {

@@ -165,10 +165,24 @@ bool remove_one(Model& md, Index c) {
 
 void remove_degeneracies(State& s, bool all_cells) {
     Model md { s, {} };
-    auto candidate = [&](Index c) { return md.alive(c) && (all_cells || at(s.changed, c)); };
+    // The live tets to look at, in id order: every tet, or those the call changed (a pass over
+    // the mesh per sweep triangle cost ~0.1 ms on the 5k organ).
+    const auto candidates = [&]() {
+        std::vector<Index> out;
+        if (all_cells) {
+            for (Index c = 0; c < s.m.num_cells(); ++c)
+                if (md.alive(c))
+                    out.push_back(c);
+        } else {
+            for (Index c : s.changed_cells())
+                if (md.alive(c))
+                    out.push_back(c);
+        }
+        return out;
+    };
     std::vector<Index> list;
-    for (Index c = 0; c < s.m.num_cells(); ++c)
-        if (candidate(c) && md.degenerate(md.tet(c)))
+    for (Index c : candidates())
+        if (md.degenerate(md.tet(c)))
             list.push_back(c);
     if (list.empty())
         return;
@@ -188,8 +202,8 @@ void remove_degeneracies(State& s, bool all_cells) {
             if (md.alive(c) && md.degenerate(md.tet(c)))
                 remove_one(md, c);
         std::vector<Index> next;
-        for (Index c = 0; c < s.m.num_cells(); ++c)
-            if (candidate(c) && md.degenerate(md.tet(c)))
+        for (Index c : candidates())
+            if (md.degenerate(md.tet(c)))
                 next.push_back(c);
         const bool shorter = next.size() < list.size();
         list = std::move(next);
@@ -207,8 +221,8 @@ void remove_degeneracies(State& s, bool all_cells) {
             }
         }
     s.stats.degenerate_left = 0;
-    for (Index c = 0; c < s.m.num_cells(); ++c)
-        if (candidate(c) && md.degenerate(md.tet(c)))
+    for (Index c : candidates())
+        if (md.degenerate(md.tet(c)))
             ++s.stats.degenerate_left;
     const auto nmap = rebuild_faces(md);
     // Around a deleted tet a node may now join tets that touch only there: duplicate it.

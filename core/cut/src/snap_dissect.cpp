@@ -540,9 +540,8 @@ void open_pinches(State& s, bool force, const std::unordered_set<Index>* only) {
             if (std::find(t.begin(), t.end(), b) != t.end())
                 reach.push_back(c);
         }
-    for (Index c = 0; c < s.m.num_cells(); ++c)
-        if (at(s.changed, c))
-            reach.push_back(c);
+    for (Index c : s.changed_cells())
+        reach.push_back(c);
     std::sort(reach.begin(), reach.end());
     reach.erase(std::unique(reach.begin(), reach.end()), reach.end());
     Model md { s, {} };

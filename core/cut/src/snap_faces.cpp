@@ -358,6 +358,10 @@ std::vector<Index> rebuild_faces(Model& md) {
     s.marks.resize(std::size_t(nc));
     s.selected.resize(std::size_t(nc));
     s.changed.resize(std::size_t(nc));
+    s.changed_list.clear(); // renumbered: listed again from the flags
+    for (Index c = 0; c < nc; ++c)
+        if (at(s.changed, c))
+            s.changed_list.push_back(c);
     s.box.assign(std::size_t(nc), {});
     s.box_ok.assign(std::size_t(nc), 0);
     // Compact the nodes this call made and left unused. A node that existed before the call

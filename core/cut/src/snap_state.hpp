@@ -103,6 +103,10 @@ struct State {
     std::unordered_map<Index, Weights> new_weights; ///< new node -> weights over pre-call ids
     std::unordered_map<Index, Vec3> moved_from; ///< pre-existing node -> rest before the call
     std::vector<char> changed; ///< per current cell
+    /// Cells touch() flagged in this call, in order (may hold cells flagged again, cut off or
+    /// unflagged since: changed_cells() filters), so that the passes over the changed cells
+    /// cost what the call touched, not the mesh.
+    std::vector<Index> changed_list;
     Index touched = 0; ///< cells touched by the call (the budget of SnapCutter::cut)
     std::vector<std::pair<Index, Index>> duplicated;
     std::vector<Index> removed_cells_old, removed_nodes_old;
@@ -119,6 +123,8 @@ struct State {
     /// Forgets the grid (tets renumbered).
     void invalidate_grid() { grid.invalidate(); }
     void touch(Index c);
+    /// The cells flagged changed, in increasing id order.
+    std::vector<Index> changed_cells() const;
     /// Moves node n to X, recording its old position and touching its cells.
     void move_node(Index n, const Vec3& X);
     /// Appends a node with weights over pre-call nodes.
