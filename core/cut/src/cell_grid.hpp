@@ -18,16 +18,17 @@ class CellGrid {
 public:
     /// Files cells [0, n) by box_of(c) (about one cell per bucket; an empty box is not filed).
     void build(Index n, const std::function<geometry::Aabb(Index)>& box_of);
-    /// Built and not invalidated since.
-    bool ok() const { return m_ok; }
     /// Forgets the grid (the cells were renumbered): the owner builds it again.
     void invalidate() { m_ok = false; }
-    /// Cells filed by the last build.
-    Index built() const { return m_built; }
-    /// Cells touched since the last build.
-    std::size_t dirty() const { return m_dirty.size(); }
     /// Cell c's box may have changed since the build.
     void touch(Index c);
+    /// Whether the owner should build the grid again before querying the first n cells: not
+    /// built, or the cells every query returns unfiled (touched or added since the build) past
+    /// an eighth of them, or many cells gone since.
+    bool stale(Index n) const {
+        const std::size_t added = n > m_built ? std::size_t(n - m_built) : 0;
+        return !m_ok || m_built > n + 1024 || m_dirty.size() + added > 64 + std::size_t(n) / 8;
+    }
     /// Cells below n that may overlap `box`: filed in a bucket it overlaps, touched since the
     /// build or added since; a superset in increasing id order (callers test the boxes
     /// themselves). Valid until the next query.

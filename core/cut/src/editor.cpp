@@ -148,7 +148,7 @@ void Editor::build_grid() {
 }
 
 const std::vector<Index>& Editor::cells_near(const geometry::Aabb& box, Index limit) {
-    if (!m_grid.ok() || m_grid.dirty() * 8 > std::size_t(m_grid.built()) + 64)
+    if (m_grid.stale(m.num_cells()))
         build_grid();
     return m_grid.query(box, limit);
 }

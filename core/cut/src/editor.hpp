@@ -78,7 +78,7 @@ public:
     const geometry::Aabb& bounds(Index c);
     /// Cells below `limit` whose bounds, grown by kSweepReach snapping distances times their
     /// diagonal, may overlap `box`: a superset, in increasing id order (a detail::CellGrid of
-    /// the grown bounds, made with the editor and again once an eighth of the cells changed).
+    /// the grown bounds, made with the editor and again when CellGrid::stale() says so).
     /// What a sweep triangle can reach without a pass over the mesh (issue 12 item 5: a cut's
     /// work follows what it touches).
     const std::vector<Index>& cells_near(const geometry::Aabb& box, Index limit);

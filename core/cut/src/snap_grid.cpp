@@ -1,8 +1,8 @@
 // The snap cutter's spatial index of tet rest bounds (State::candidates, a detail::CellGrid):
 // a triangle's candidates are the tets in the buckets its box overlaps, the touched ones and
 // the ones appended since the build, so each triangle costs what lies near it instead of a pass
-// over the mesh (issue 12 item 5). The grid is built again when the touched list grows past a
-// sixteenth of the mesh or after a compaction renumbered the tets (rebuild_faces()).
+// over the mesh (issue 12 item 5). The grid is built again when CellGrid::stale() says so or
+// after a compaction renumbered the tets (rebuild_faces()).
 #include "checks.hpp"
 #include "snap_state.hpp"
 
@@ -14,8 +14,7 @@ namespace polycut::cut::snap {
 
 const std::vector<Index>& State::candidates(const geometry::Aabb& b) {
     const Index n = m.num_cells();
-    if (!grid.ok() || std::size_t(grid.built()) > std::size_t(n) + grid.dirty() + 1024
-        || grid.dirty() > 32 + std::size_t(n) / 16)
+    if (grid.stale(n))
         grid.build(n, [&](Index c) { return bounds(c); });
     const std::vector<Index>& found = grid.query(b, n);
     if (detail::incremental_checks()) {
