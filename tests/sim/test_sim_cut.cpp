@@ -133,3 +133,46 @@ TEST(SimulationCut, ACutPastTheModelGrowthLimitIsUndone) {
     EXPECT_TRUE(applied.ok()) << applied.reason; // the first of it, as the cell budget allows
     EXPECT_TRUE(applied.topology_changed);
 }
+
+TEST(SimulationCut, ATickTakesAnotherCutOnlyWhileItsBudgetPaysForTheCall) {
+    // cutting.max_cells_per_tick also pays for what each cut call does over the whole model (one
+    // unit per 200 cells, decision 0076): a cut of this 3,600-tet block costs 18 a call besides
+    // its cells. A small first cut leaves less than that of a budget of 40, so the next call of
+    // the tick (another stroke) waits whole for the next tick instead of cutting a strip; the
+    // first call of a tick runs whatever it costs, so every stroke advances.
+    const auto with_budget = [](int budget) {
+        std::string text = kBlock;
+        const std::string from = R"("cells": [4, 4, 4], "elements": "hex")";
+        text.replace(text.find(from), from.size(), R"("cells": [10, 10, 6], "elements": "tet")");
+        text.insert(text.rfind('}'),
+            R"(, "cutting": {"max_cells_per_tick": )" + std::to_string(budget) + "}");
+        return scene::parse_scene(text);
+    };
+    // A nick into the top of one corner column (y = 3.1 mm, 5 mm deep over 1 cm) and a cut as
+    // small at the other end of the block.
+    const std::vector<std::array<Vec3, 3>> nick { { Vec3(-0.045, 0.0031, 0.11),
+        Vec3(-0.035, 0.0031, 0.11), Vec3(-0.045, 0.0031, 0.095) } };
+    const std::vector<std::array<Vec3, 3>> other { { Vec3(0.035, 0.0031, 0.11),
+        Vec3(0.045, 0.0031, 0.11), Vec3(0.035, 0.0031, 0.095) } };
+    sim::Simulation s(with_budget(40));
+    s.step();
+    const sim::CutSummary first = s.cut(nick);
+    ASSERT_EQ(first.status, sim::CutSummary::Status::Applied) << first.reason;
+    ASSERT_TRUE(first.topology_changed);
+    // Few enough cells that the budget is not spent on them alone (or the test says nothing).
+    ASSERT_LT(first.cells_after - first.cells_before + first.cells_split, 20);
+    const sim::CutSummary waits = s.cut(other);
+    EXPECT_EQ(waits.status, sim::CutSummary::Status::Deferred);
+    EXPECT_EQ(waits.triangles_deferred, 1);
+    EXPECT_EQ(waits.cells_after, first.cells_after);
+    s.step();
+    const sim::CutSummary next = s.cut(other);
+    EXPECT_EQ(next.status, sim::CutSummary::Status::Applied) << next.reason;
+    EXPECT_TRUE(next.topology_changed);
+
+    sim::Simulation small(with_budget(10)); // below one call's cost
+    small.step();
+    const sim::CutSummary runs = small.cut(nick);
+    EXPECT_EQ(runs.status, sim::CutSummary::Status::Applied) << runs.reason;
+    EXPECT_TRUE(runs.topology_changed);
+}

@@ -25,7 +25,15 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
     CutSummary summary;
     summary.cells_before = summary.cells_after = int(s.mesh.num_cells());
     const Index budget = s.scene.cutting.max_cells_per_tick;
-    if (budget > 0 && s.cut_cells_left <= 0 && !world.empty()) {
+    // Each call is charged what it does over the whole model besides the cells it cuts: a tick
+    // that cut already takes another call (a second stroke, a `cut` after carried triangles) only
+    // while the budget left pays for that. The tick's first call always runs (every stroke
+    // advances); two calls of a nearly full budget were the organ's worst split tick (decision
+    // 0076).
+    const Index call_cost = budget > 0 ? cut_call_cost(s.mesh) : 0;
+    const bool cut_this_tick = s.cut_cells_left < budget;
+    if (budget > 0 && !world.empty()
+        && (s.cut_cells_left <= 0 || (cut_this_tick && s.cut_cells_left < call_cost))) {
         // This tick's cuts have used the budget: everything waits for the next tick.
         summary.status = CutSummary::Status::Deferred;
         summary.triangles_deferred = int(world.size());
@@ -36,6 +44,8 @@ CutSummary Simulation::cut(const std::vector<std::array<Vec3, 3>>& world, int ma
     cut::CutResult result = s.cutting->cut(
         world, s.positions, budget > 0 ? s.cut_cells_left : 0, [&] { before = s.take_snapshot(); },
         std::size_t(std::max(0, max_triangles)));
+    if (budget > 0)
+        s.cut_cells_left -= call_cost;
     summary.triangles_skipped = int(result.skipped);
     summary.triangles_deferred = int(result.deferred);
     summary.inverted_cells = int(result.inverted_cells);

@@ -37,6 +37,12 @@ void check_time_step(const scene::Scene& s, const elasticity::ElasticModel& mode
 /// nonzeros per PCG iteration). What cutting.max_model_growth bounds (MeshStats::model_growth).
 double element_cost(const mesh::Mesh& m);
 
+/// What a cut call costs over the whole model whatever it cuts, in units of the tick's cut budget
+/// (cutting.max_cells_per_tick): the stiffness pattern's update and the pipeline's passes are
+/// O(cells). One unit per 200 cells (organ_5k, 26,400 cells: ~6 ms a call that changes a few
+/// cells, 2.5 ms one that changes none; a budget unit ~0.045 ms; decision 0076).
+Index cut_call_cost(const mesh::Mesh& m);
+
 /// Node nearest to a rest-space point among nodes used by cells.
 Index nearest_node(const mesh::Mesh& m, const Vec3& X);
 
