@@ -9,6 +9,7 @@
 #include <array>
 #include <limits>
 #include <numeric>
+#include <utility>
 #include <span>
 
 namespace polycut::elasticity {
@@ -78,15 +79,18 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
         }
         affected = std::move(grown);
     }
+    // The old arrays are read below while the new ones are written: the largest new ones take
+    // the storage the previous update left (m_spare) and give theirs back at the end.
     const std::vector<std::size_t> old_nb_offset = std::move(m_nb_offset);
-    const std::vector<Index> old_nb_nodes = std::move(m_nb_nodes);
-    const std::vector<int> old_nb_start = std::move(m_nb_start);
+    std::vector<Index> old_nb_nodes = std::exchange(m_nb_nodes, std::move(m_spare.nb_nodes));
+    std::vector<int> old_nb_start = std::exchange(m_nb_start, std::move(m_spare.nb_start));
     const std::vector<int> old_outer = std::move(m_outer);
-    const std::vector<int> old_inner = std::move(m_inner);
+    std::vector<int> old_inner = std::exchange(m_inner, std::move(m_spare.inner));
     const std::vector<Index> old_diag = std::move(m_diag_slots);
-    const std::vector<int> old_block = std::move(m_block_scatter);
+    std::vector<int> old_block
+        = std::exchange(m_block_scatter, std::move(m_spare.block_scatter));
     const std::vector<std::size_t> old_scatter_offset = std::move(m_scatter_offset);
-    const std::vector<int> old_scatter = std::move(m_scatter);
+    std::vector<int> old_scatter = std::exchange(m_scatter, std::move(m_spare.scatter));
     const std::vector<Index> old_dof_map = std::move(m_dof_map);
     const Index old_num_free = m_num_free;
 
@@ -338,6 +342,8 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
             }
         }
     }
+    m_spare = { std::move(old_inner), std::move(old_scatter), std::move(old_block),
+        std::move(old_nb_start), std::move(old_nb_nodes) };
     rebuild_partition();
     ++m_topology_version;
 }
