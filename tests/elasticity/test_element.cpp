@@ -183,3 +183,47 @@ TEST(ElementStiffness, MeanDilatationIsP1OnTetsAndUnlocksHexBending) {
     EXPECT_LT(e_bar, 1.0 * m.mu());
     EXPECT_GT(e_full, 50 * e_bar);
 }
+
+TEST(ElementStiffness, ManyNodeCellsMatchTheTextbookSumForEveryVolumetricRule) {
+    // Cells of more than 8 nodes take a rank-q product of the stacked gradients (the 3 x 3
+    // blocks of sum_q w_q g_a g_b^T); it must equal sum_q w_q B_q^T C B_q entry by entry, C the
+    // full, the deviatoric (NodalAverage) and the deviatoric plus the cell-mean volumetric term
+    // (MeanDilatation). Random gradients of 13 nodes at 29 points, positive weights.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.1, 1.0);
+    basis::CellIntegration ci;
+    const Index n = 13;
+    for (int q = 0; q < 29; ++q) {
+        MatX3 g(n, 3);
+        for (Index a = 0; a < n; ++a)
+            g.row(a) = Eigen::RowVector3d(u(rng), u(rng), u(rng));
+        ci.gradients.push_back(g);
+        ci.weights.push_back(w(rng));
+        ci.points.push_back(Vec3::Zero());
+    }
+    const Material m = material(0.45);
+    const double kappa = m.lambda() + 2.0 * m.mu() / 3.0;
+    for (const auto rule : { basis::VolumetricRule::Full, basis::VolumetricRule::NodalAverage,
+             basis::VolumetricRule::MeanDilatation }) {
+        auto C = elasticity_matrix(m);
+        if (rule != basis::VolumetricRule::Full)
+            C.topLeftCorner<3, 3>().array() -= kappa;
+        MatX ref = MatX::Zero(3 * n, 3 * n);
+        double V = 0;
+        VecX bbar = VecX::Zero(3 * n);
+        for (std::size_t q = 0; q < ci.gradients.size(); ++q) {
+            const MatX B = strain_displacement(ci.gradients[q]);
+            ref += ci.weights[q] * B.transpose() * C * B;
+            V += ci.weights[q];
+            for (Index a = 0; a < n; ++a)
+                bbar.segment<3>(3 * a) += ci.weights[q] * ci.gradients[q].row(a).transpose();
+        }
+        if (rule == basis::VolumetricRule::MeanDilatation)
+            ref += (kappa / V) * bbar * bbar.transpose();
+        const MatX K = element_stiffness(ci, m, rule);
+        // Relative to the largest entry: the two sums differ by round-off only.
+        EXPECT_LT((K - ref).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff())
+            << "rule " << int(rule);
+        EXPECT_LT((K - K.transpose()).norm(), 1e-14 * K.norm()) << "rule " << int(rule);
+    }
+}

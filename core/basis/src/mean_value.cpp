@@ -10,7 +10,9 @@
 #include "polycut/common/error.hpp"
 #include "polycut/geometry/polyhedron.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace polycut::basis {
 namespace {
@@ -55,6 +57,20 @@ MeanValueCell::MeanValueCell(std::vector<Vec3> nodes, const std::vector<std::vec
             = (m_nodes[std::size_t(t.nodes[1])] - a).cross(m_nodes[std::size_t(t.nodes[2])] - a);
         m_tri_area.push_back(0.5 * cr.norm());
         m_tri_normal.push_back(cr.normalized());
+    }
+    std::map<std::array<Index, 2>, Index> edge_of;
+    m_tri_edges.reserve(m_triangles.size());
+    for (const auto& t : m_triangles) {
+        std::array<Index, 3> sides {};
+        for (std::size_t e = 0; e < 3; ++e) {
+            const Index a = t.nodes[e], b = t.nodes[(e + 1) % 3];
+            const std::array<Index, 2> key { std::min(a, b), std::max(a, b) };
+            const auto [it, fresh] = edge_of.emplace(key, Index(m_edges.size()));
+            if (fresh)
+                m_edges.push_back(key);
+            sides[e] = a < b ? it->second : -it->second - 1;
+        }
+        m_tri_edges.push_back(sides);
     }
 }
 
@@ -135,22 +151,44 @@ void MeanValueCell::evaluate_interior(const Vec3& x, VecX& phi, MatX3* grad) con
         r[v] = d[v].norm();
         u[v] = d[v] / r[v];
     }
+    // Per edge (a, b), a < b: g = d_a x d_b, the angle theta it subtends at x, its term
+    // theta / 2 n of the mean vector and, for the gradient, that term's Jacobian. A triangle side
+    // from b to a takes them negated (g, n and both terms change sign, theta does not).
+    struct EdgeTerms {
+        Vec3 g, m;
+        Mat3 J;
+    };
+    thread_local std::vector<EdgeTerms> terms;
+    terms.resize(m_edges.size());
+    const Mat3 I = Mat3::Identity();
+    for (std::size_t k = 0; k < m_edges.size(); ++k) {
+        const auto a = std::size_t(m_edges[k][0]), b = std::size_t(m_edges[k][1]);
+        EdgeTerms& t = terms[k];
+        t.g = d[a].cross(d[b]);
+        const double gn = t.g.norm();
+        const Vec3 nn = t.g / gn;
+        const double th = std::atan2(gn, d[a].dot(d[b]));
+        t.m = 0.5 * th * nn;
+        if (!grad)
+            continue;
+        // d(d_v)/dx = -I; d(d_a x d_b)/dx = [x_b - x_a]_x; d(theta)/dx from the angle between
+        // d_a and d_b; d(n)/dx = (I - n n^T) / |g| [x_b - x_a]_x.
+        const Vec3 gth = nn.cross(u[a]) / r[a] + u[b].cross(nn) / r[b];
+        t.J = 0.5 * (nn * gth.transpose())
+            + (0.5 * th / gn) * (I - nn * nn.transpose()) * skew(m_nodes[b] - m_nodes[a]);
+    }
     phi.setZero(Eigen::Index(n));
     if (grad)
         grad->setZero(Eigen::Index(n), 3);
-    const Mat3 I = Mat3::Identity();
-    for (const auto& tri : m_triangles) {
-        const auto& id = tri.nodes;
-        std::array<Vec3, 3> g, nn;
-        std::array<double, 3> gn {}, th {};
+    for (std::size_t f = 0; f < m_triangles.size(); ++f) {
+        const auto& id = m_triangles[f].nodes;
+        std::array<Vec3, 3> g;
         Vec3 m = Vec3::Zero();
         for (std::size_t e = 0; e < 3; ++e) {
-            const auto a = std::size_t(id[e]), b = std::size_t(id[(e + 1) % 3]);
-            g[e] = d[a].cross(d[b]);
-            gn[e] = g[e].norm();
-            nn[e] = g[e] / gn[e];
-            th[e] = std::atan2(gn[e], d[a].dot(d[b]));
-            m += 0.5 * th[e] * nn[e];
+            const Index k = m_tri_edges[f][e];
+            const EdgeTerms& t = terms[std::size_t(k >= 0 ? k : -k - 1)];
+            g[e] = k >= 0 ? t.g : Vec3(-t.g);
+            m += k >= 0 ? t.m : Vec3(-t.m);
         }
         const double D = d[std::size_t(id[0])].dot(g[1]);
         // vertex v is opposite edge (v + 1) % 3
@@ -161,16 +199,16 @@ void MeanValueCell::evaluate_interior(const Vec3& x, VecX& phi, MatX3* grad) con
         }
         if (!grad)
             continue;
-        // d(d_v)/dx = -I; d(d_a x d_b)/dx = [x_b - x_a]_x; d(theta)/dx from the angle between
-        // d_a and d_b; d(n)/dx = (I - n n^T) / |g| [x_b - x_a]_x.
         Mat3 Jm = Mat3::Zero();
         std::array<Vec3, 3> E;
         for (std::size_t e = 0; e < 3; ++e) {
-            const auto a = std::size_t(id[e]), b = std::size_t(id[(e + 1) % 3]);
-            E[e] = m_nodes[b] - m_nodes[a];
-            const Vec3 gth = nn[e].cross(u[a]) / r[a] + u[b].cross(nn[e]) / r[b];
-            Jm += 0.5 * (nn[e] * gth.transpose())
-                + (0.5 * th[e] / gn[e]) * (I - nn[e] * nn[e].transpose()) * skew(E[e]);
+            const Index k = m_tri_edges[f][e];
+            const EdgeTerms& t = terms[std::size_t(k >= 0 ? k : -k - 1)];
+            if (k >= 0)
+                Jm += t.J;
+            else
+                Jm -= t.J;
+            E[e] = m_nodes[std::size_t(id[(e + 1) % 3])] - m_nodes[std::size_t(id[e])];
         }
         const Vec3 gD = -(g[0] + g[1] + g[2]);
         for (std::size_t v = 0; v < 3; ++v) {

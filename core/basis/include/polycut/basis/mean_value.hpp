@@ -65,6 +65,11 @@ private:
     std::vector<SurfaceTriangle> m_triangles;
     std::vector<Vec3> m_tri_normal; ///< unit outward normal per triangle
     std::vector<double> m_tri_area; ///< [m^2]
+    /// The surface triangles' edges, each once (a < b), and per triangle edge e (from node e to
+    /// node e + 1) its index here, negated minus one when it runs from b to a: the edge terms of
+    /// the coordinates and their gradients are computed once per edge, not per triangle side.
+    std::vector<std::array<Index, 2>> m_edges;
+    std::vector<std::array<Index, 3>> m_tri_edges;
     double m_volume = 0;
     Vec3 m_centroid = Vec3::Zero();
     double m_size = 0;
