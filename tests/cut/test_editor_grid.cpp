@@ -72,3 +72,35 @@ TEST(EditorGrid, CellsNearHoldEveryCellThePassOverTheMeshFinds) {
         ed.end();
     }
 }
+
+TEST(EditorGrid, CellsNearFollowTheCellsThroughARenumbering) {
+    // Cells removed and the rest moved down (what merge_slivers does): the grid renames the ids
+    // it filed instead of being built again, and still finds every cell the pass finds, and no
+    // id twice; a map that does not keep the order makes it build again, with the same result.
+    mesh::BoxGrid g;
+    g.hi = Vec3::Constant(0.1);
+    g.cells = Eigen::Vector3i(8, 8, 8);
+    mesh::Mesh m = mesh::tet_grid(g);
+    cut::CutOptions opt;
+    cut::detail::Editor ed(m, opt);
+    std::mt19937 rng(12);
+    const double reach = cut::detail::kSweepReach * opt.snap;
+    expect_superset(ed, rng, reach, 50); // the grid is built
+    for (const bool keep_order : { true, false }) {
+        const Index n = m.num_cells();
+        std::vector<Index> map(std::size_t(n), kNone);
+        std::vector<mesh::Cell> kept;
+        for (Index c = 0; c < n; ++c)
+            if (c % 7 != 3) {
+                map[std::size_t(c)] = Index(kept.size());
+                kept.push_back(m.cells[std::size_t(c)]);
+            }
+        if (!keep_order) { // the first two survivors change places
+            std::swap(kept[0], kept[1]);
+            std::swap(map[0], map[1]);
+        }
+        m.cells = std::move(kept);
+        ed.renumber(map);
+        expect_superset(ed, rng, reach, 200);
+    }
+}

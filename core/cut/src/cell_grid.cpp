@@ -65,6 +65,37 @@ void CellGrid::build(Index n, const std::function<geometry::Aabb(Index)>& box_of
         each(c, [&](std::size_t b) { m_cells[std::size_t(fill[b]++)] = c; });
 }
 
+void CellGrid::renumber(const std::vector<Index>& map) {
+    if (!m_ok)
+        return;
+    const auto to = [&](Index c) {
+        return c >= 0 && std::size_t(c) < map.size() ? map[std::size_t(c)] : kNone;
+    };
+    // Filed cells have ids below m_built and cells added since the build ids from m_built on;
+    // an order-keeping map keeps the two apart, at the survivors' count below m_built.
+    Index built = 0, last = -1;
+    for (Index c = 0; c < Index(map.size()); ++c)
+        if (const Index t = to(c); t != kNone) {
+            if (t <= last) {
+                invalidate();
+                return;
+            }
+            last = t;
+            built += c < m_built ? 1 : 0;
+        }
+    for (Index& c : m_cells)
+        c = to(c); // a removed cell stays in its buckets as kNone, skipped by query()
+    std::vector<Index> dirty;
+    for (Index c : m_dirty)
+        if (const Index t = to(c); t != kNone)
+            dirty.push_back(t);
+    m_dirty = std::move(dirty);
+    m_built = built;
+    m_in_dirty.assign(std::size_t(built), 0);
+    for (Index c : m_dirty)
+        m_in_dirty[std::size_t(c)] = 1;
+}
+
 void CellGrid::touch(Index c) {
     if (m_ok && c < m_built && !m_in_dirty[std::size_t(c)]) {
         m_in_dirty[std::size_t(c)] = 1;
@@ -81,7 +112,7 @@ const std::vector<Index>& CellGrid::query(const geometry::Aabb& box, Index n) {
         m_now = 1;
     }
     const auto take = [&](Index c) {
-        if (c < n && m_stamp[std::size_t(c)] != m_now) {
+        if (c >= 0 && c < n && m_stamp[std::size_t(c)] != m_now) {
             m_stamp[std::size_t(c)] = m_now;
             m_found.push_back(c);
         }

@@ -20,6 +20,11 @@ public:
     void build(Index n, const std::function<geometry::Aabb(Index)>& box_of);
     /// Forgets the grid (the cells were renumbered): the owner builds it again.
     void invalidate() { m_ok = false; }
+    /// The cells were renumbered by `map` (old id -> new id, kNone: removed; ids past its end
+    /// removed) while keeping their boxes: the filed ids are renamed, O(filed entries), instead
+    /// of a new build (every cell's box again: ~3.5 ms on a 26k-cell organ). The map must keep
+    /// the survivors' order (a compaction); otherwise the grid is forgotten.
+    void renumber(const std::vector<Index>& map);
     /// Cell c's box may have changed since the build.
     void touch(Index c);
     /// Whether the owner should build the grid again before querying the first n cells: not

@@ -37,7 +37,7 @@ void Editor::rebuild() {
 }
 
 void Editor::renumber(const std::vector<Index>& cell_map) {
-    m_grid.invalidate();
+    m_grid.renumber(cell_map);
     const std::size_t nc = m.cells.size();
     std::vector<geometry::Aabb> bounds(nc);
     std::vector<char> bounds_ok(nc, 0);
