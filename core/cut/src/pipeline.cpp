@@ -146,13 +146,9 @@ struct CutPipeline::Impl {
     void cells_changed(const CutReport& r) {
         if (!world_grid)
             return;
-        const bool nodes_renumbered = !r.node_map.empty() || !r.removed_nodes.empty();
-        const bool cells_renumbered
-            = !r.cell_map.empty() || !r.removed_cells.empty() || r.slivers_merged > 0;
-        if (cells_renumbered && !nodes_renumbered && !r.cell_map.empty())
-            world_grid->cells_renumbered(r.cell_map, r.changed_cells);
-        else
-            world_grid->cells_changed(r.changed_cells, cells_renumbered || nodes_renumbered);
+        const bool renumbered = !r.cell_map.empty() || !r.node_map.empty()
+            || !r.removed_cells.empty() || !r.removed_nodes.empty() || r.slivers_merged > 0;
+        world_grid->cells_changed(r.changed_cells, renumbered);
     }
 
     const WorldToRest& rest_cells() {

@@ -86,26 +86,6 @@ void WorldToRest::cells_changed(std::span<const Index> changed, bool renumbered)
             copy_cell(std::size_t(c));
 }
 
-void WorldToRest::cells_renumbered(std::span<const Index> cell_map, std::span<const Index> changed) {
-    if (!m_flat_ok)
-        return;
-    const std::size_t nc = m_mesh.cells.size();
-    std::vector<std::size_t> slot(nc, 0);
-    std::vector<int> count(nc, 0), room(nc, 0); // a cell no old one moves to: a new slot
-    for (std::size_t c = 0; c < std::min(cell_map.size(), m_slot.size()); ++c)
-        if (const Index to = cell_map[c]; to != kNone && std::size_t(to) < nc) {
-            slot[std::size_t(to)] = m_slot[c];
-            count[std::size_t(to)] = m_count[c];
-            room[std::size_t(to)] = m_room[c];
-        }
-    m_slot = std::move(slot);
-    m_count = std::move(count);
-    m_room = std::move(room);
-    for (Index c : changed)
-        if (c >= 0 && std::size_t(c) < nc)
-            copy_cell(std::size_t(c));
-}
-
 bool WorldToRest::refit_near(
     std::span<const Vec3> world, const geometry::Aabb& region, std::size_t max_cells) {
     refresh_flat();

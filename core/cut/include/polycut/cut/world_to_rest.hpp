@@ -37,11 +37,6 @@ public:
     /// that cells or nodes were renumbered (the copy is then made again from the mesh). Checked
     /// against the mesh under POLYCUT_CHECK_UNDO=1.
     void cells_changed(std::span<const Index> changed, bool renumbered);
-    /// After a compaction of cells alone (node ids kept): cell_map takes each pre-edit cell to
-    /// its new id (kNone: removed). The copy's slots follow the map (O(cells) integers) instead
-    /// of a whole copy of the node lists; `changed` (which must hold every cell no old one
-    /// moved to) are copied again.
-    void cells_renumbered(std::span<const Index> cell_map, std::span<const Index> changed);
     /// Makes refit_near()'s flat copy of the node lists now (O(mesh)), so that the first cut
     /// of a scene, or the first after a renumbering, does not (CutPipeline::prepare()).
     void prepare();
