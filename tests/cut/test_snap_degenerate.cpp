@@ -185,6 +185,7 @@ TEST(SnapDegenerate, CutsOfJitteredGridsRemoveEveryKind) {
     // flat tets of several kinds; after each cut no degenerate tet is left unreported.
     std::mt19937 rng(5u);
     cut::SnapStats sum;
+    Index removed = 0;
     for (auto split : { mesh::TetSplit::Kuhn6, mesh::TetSplit::Five })
         for (int k = 0; k < 20; ++k) {
             auto m = jittered_block(6, split, 0.2, rng);
@@ -204,6 +205,15 @@ TEST(SnapDegenerate, CutsOfJitteredGridsRemoveEveryKind) {
             const auto& st = cutter.stats();
             EXPECT_LT(st.volume_change, 1e-3);
             EXPECT_EQ(quality(m, opt).degenerate, st.degenerate_left) << "cut " << k;
+            // The tets a collapse deleted give their ids to the last tets: no other tet is
+            // renumbered (the whole face table and a shift of every later tet are not needed).
+            EXPECT_EQ(st.face_tables_whole, 0) << "cut " << k;
+            Index moved = 0;
+            for (std::size_t c = 0; c < r.cell_map.size(); ++c)
+                moved += r.cell_map[c] != kNone && r.cell_map[c] != Index(c) ? 1 : 0;
+            EXPECT_LE(moved, Index(r.removed_cells.size())) << "cut " << k;
+            sum.face_tables_local += st.face_tables_local;
+            removed += Index(r.removed_cells.size());
             for (auto [to, from] : { std::pair { &sum.needles_removed, st.needles_removed },
                      { &sum.spindles_removed, st.spindles_removed },
                      { &sum.slivers_removed, st.slivers_removed },
@@ -217,6 +227,8 @@ TEST(SnapDegenerate, CutsOfJitteredGridsRemoveEveryKind) {
     EXPECT_GT(sum.spindles_removed, 0);
     EXPECT_GT(sum.slivers_removed, 0);
     EXPECT_GT(sum.cut_free, 0);
+    EXPECT_GT(removed, 0); // tets were deleted, through the local face rebuild
+    EXPECT_GT(sum.face_tables_local, 0);
 }
 
 TEST(SnapIslands, ThroughCutsOfJitteredBlocksGiveTwoPieces) {

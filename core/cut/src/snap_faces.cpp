@@ -4,6 +4,7 @@
 #include "checks.hpp"
 #include "snap_model.hpp"
 
+#include <algorithm>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -131,41 +132,178 @@ void check_face_table(const mesh::Mesh& m) {
     }
 }
 
-// The face table after edits that deleted no tet and left no node without tets (opening
-// pinches, the splits of degeneracy removal that were kept): only the changed tets' faces are
-// made again, from their labels, and matched by node set among themselves and with the faces
-// they had, whose other sides (unchanged tets) keep them; freed ids are reused, the rest filled
-// from the end of the table. O(changed tets) instead of O(mesh) (issue 12 item 5). Returns
-// false, having changed nothing, where it does not apply.
-bool rebuild_faces_local(Model& md) {
+// Takes the tets deleted by degeneracy removal (dead) out of the cell arrays: the last live tet
+// takes the id of each, so only the moved tets change ids (the whole rebuild shifted every tet
+// after the first deleted one, and the caller's model then followed all of them). Their faces
+// and nodes' tet lists are renamed; the removed pre-call ids are recorded.
+void drop_dead_cells(Model& md, const std::vector<Index>& dead) {
     State& s = md.s;
     mesh::Mesh& m = s.m;
+    Index end = m.num_cells();
+    std::vector<char> is_dead(std::size_t(end), 0);
+    for (Index c : dead) {
+        at(is_dead, c) = 1;
+        if (at(s.cell_old, c) != kNone)
+            s.removed_cells_old.push_back(at(s.cell_old, c));
+    }
+    s.cell_volume.resize(m.cells.size(), 0.0); // appended tets are changed: end() measures them
+    std::vector<Index> cmap(static_cast<std::size_t>(end));
+    std::iota(cmap.begin(), cmap.end(), Index(0));
+    for (Index h : dead) { // ascending
+        while (end > h && at(is_dead, end - 1))
+            --end;
+        if (end <= h)
+            break;
+        const Index L = --end; // live, above h
+        at(m.cells, h) = std::move(at(m.cells, L));
+        at(md.labels, h) = at(md.labels, L);
+        at(s.marks, h) = at(s.marks, L);
+        at(s.selected, h) = at(s.selected, L);
+        at(s.changed, h) = at(s.changed, L);
+        at(s.cell_old, h) = at(s.cell_old, L);
+        at(s.cell_parent, h) = at(s.cell_parent, L);
+        at(s.cell_volume, h) = at(s.cell_volume, L);
+        at(s.box, h) = at(s.box, L);
+        at(s.box_ok, h) = at(s.box_ok, L);
+        for (Index f : at(m.cells, h).faces) {
+            mesh::Face& face = at(m.faces, f);
+            if (face.owner == L)
+                face.owner = h;
+            if (face.neighbour == L)
+                face.neighbour = h;
+        }
+        for (Index n : at(m.cells, h).nodes)
+            std::replace(at(s.node_cells, n).begin(), at(s.node_cells, n).end(), L, h);
+        if (at(s.changed, h))
+            s.changed_list.push_back(h);
+        s.grid.touch(h);
+        at(cmap, L) = h;
+        at(is_dead, h) = 0;
+        at(is_dead, L) = 1;
+    }
+    while (end > 0 && at(is_dead, end - 1))
+        --end;
+    for (Index c : dead)
+        at(cmap, c) = kNone;
+    std::vector<Index> deferred;
+    for (Index c : s.deferred)
+        if (c < Index(cmap.size()) && at(cmap, c) != kNone)
+            deferred.push_back(at(cmap, c));
+    s.deferred = std::move(deferred);
+    const auto n = std::size_t(end);
+    m.cells.resize(n);
+    md.labels.resize(n);
+    s.marks.resize(n);
+    s.selected.resize(n);
+    s.changed.resize(n);
+    s.cell_old.resize(n);
+    s.cell_parent.resize(n);
+    s.cell_volume.resize(n);
+    s.box.resize(n);
+    s.box_ok.resize(n);
+}
+
+// Takes the nodes this call made and left without tets (orphans, ascending) out the same way:
+// the last node takes the id of each (nodes made by the call are the last ones, so pre-call ids
+// never move). Renames them in the tets, faces, weights, duplications and the pending faces'
+// keys; returns the node map (old -> new id, kNone for an orphan).
+std::vector<Index> drop_orphan_nodes(State& s, const std::vector<Index>& orphans, std::vector<Key>& pend) {
+    mesh::Mesh& m = s.m;
+    std::vector<Index> nmap(m.rest.size());
+    std::iota(nmap.begin(), nmap.end(), Index(0));
+    if (orphans.empty())
+        return nmap;
+    std::vector<char> is_orphan(m.rest.size(), 0);
+    for (Index n : orphans) {
+        at(is_orphan, n) = 1;
+        at(nmap, n) = kNone;
+        s.new_weights.erase(n);
+    }
+    Index end = m.num_nodes();
+    for (Index h : orphans) {
+        while (end > h && at(is_orphan, end - 1))
+            --end;
+        if (end <= h)
+            break;
+        const Index L = --end;
+        at(m.rest, h) = at(m.rest, L);
+        at(s.node_old, h) = at(s.node_old, L);
+        at(s.node_cells, h) = std::move(at(s.node_cells, L));
+        for (Index c : at(s.node_cells, h)) {
+            auto& cell = at(m.cells, c);
+            std::replace(cell.nodes.begin(), cell.nodes.end(), L, h);
+            for (Index f : cell.faces)
+                std::replace(at(m.faces, f).nodes.begin(), at(m.faces, f).nodes.end(), L, h);
+        }
+        if (auto it = s.new_weights.find(L); it != s.new_weights.end()) {
+            s.new_weights.emplace(h, std::move(it->second));
+            s.new_weights.erase(L);
+        }
+        at(nmap, L) = h;
+        at(is_orphan, h) = 0;
+        at(is_orphan, L) = 1;
+    }
+    while (end > 0 && at(is_orphan, end - 1))
+        --end;
+    m.rest.resize(std::size_t(end));
+    s.node_old.resize(std::size_t(end));
+    s.node_cells.resize(std::size_t(end));
+    std::vector<std::pair<Index, Index>> dup;
+    for (const auto& [a, b] : s.duplicated)
+        if (at(nmap, a) != kNone && at(nmap, b) != kNone)
+            dup.emplace_back(at(nmap, a), at(nmap, b));
+    s.duplicated = std::move(dup);
+    for (auto& k : pend)
+        for (Index& n : k)
+            n = at(nmap, n);
+    return nmap;
+}
+
+// The face table after edits (opening pinches, degeneracy removal): only the changed tets' faces
+// are made again, from their labels, and matched by node set among themselves and with the
+// faces they had, whose other sides (unchanged tets) keep them; freed ids are reused, the rest
+// filled from the end of the table. Deleted tets and the nodes the call made and left without
+// tets then give their ids to the last ones (drop_dead_cells, drop_orphan_nodes). O(changed
+// tets) instead of O(mesh) (issue 12 item 5; the whole rebuild after a collapse was ~12 ms on
+// organ_5k). Returns false, having changed nothing, where it does not apply; else sets nmap.
+bool rebuild_faces_local(Model& md, std::vector<Index>& nmap) {
+    State& s = md.s;
+    mesh::Mesh& m = s.m;
+    if (md.journal != nullptr)
+        return false;
     const Index nc = m.num_cells();
-    std::vector<Index> T;
+    std::vector<Index> T, dead;
     for (Index c = 0; c < nc; ++c) {
-        if (!md.alive(c))
-            return false; // a deleted tet: compaction
+        if (!md.alive(c)) {
+            dead.push_back(c);
+            continue;
+        }
         if (at(s.changed, c)) {
             T.push_back(c);
             if (at(md.labels, c)[0] == kUnloaded)
                 return false;
         }
     }
+    // A node left without tets: one the call made is dropped; a pre-call one keeps its id (as
+    // in the whole rebuild: the caller's model takes it out of its unknowns).
+    std::vector<Index> orphans;
     for (Index n = 0; n < m.num_nodes(); ++n)
-        if (at(s.node_cells, n).empty())
-            return false; // a node left without tets: compaction
-    const std::vector<Key> pend = pending_keys(s);
-    // The faces the changed tets had, and the unchanged tet on the other side of each.
+        if (at(s.node_cells, n).empty() && at(s.node_old, n) == kNone)
+            orphans.push_back(n);
+    std::vector<Key> pend = pending_keys(s);
+    // The faces the changed and the deleted tets had, and the unchanged tet on the other side.
     std::vector<Index> old_faces;
-    for (Index c : T)
-        old_faces.insert(old_faces.end(), at(m.cells, c).faces.begin(), at(m.cells, c).faces.end());
+    for (const auto* list : { &T, &dead })
+        for (Index c : *list)
+            old_faces.insert(
+                old_faces.end(), at(m.cells, c).faces.begin(), at(m.cells, c).faces.end());
     std::sort(old_faces.begin(), old_faces.end());
     old_faces.erase(std::unique(old_faces.begin(), old_faces.end()), old_faces.end());
     std::unordered_map<Key, std::pair<Index, Index>, KeyHash> border; // key -> (face, tet)
     for (Index f : old_faces) {
         const mesh::Face& face = at(m.faces, f);
         for (Index u : { face.owner, face.neighbour })
-            if (u != kNone && !at(s.changed, u))
+            if (u != kNone && md.alive(u) && !at(s.changed, u))
                 border.emplace(sorted_key(face.nodes), std::make_pair(f, u));
     }
     // The changed tets' faces, matched.
@@ -274,6 +412,8 @@ bool rebuild_faces_local(Model& md) {
         for (std::size_t k = 0; k < 4; ++k)
             faces[k] = made[local[t][k]].id;
     }
+    for (Index c : dead)
+        at(m.cells, c).faces.clear();
     // Ids left free: filled with the last faces of the table, from the highest hole down.
     std::vector<Index> holes(free.begin() + std::ptrdiff_t(next_free), free.end());
     while (!holes.empty()) {
@@ -294,6 +434,9 @@ bool rebuild_faces_local(Model& md) {
         at(m.faces, h) = std::move(moved);
         m.faces.pop_back();
     }
+    if (!dead.empty())
+        drop_dead_cells(md, dead);
+    nmap = drop_orphan_nodes(s, orphans, pend);
     find_pending(s, pend);
     s.compacted = true; // face ids changed: the report says so (a whole sync of the mirrors)
     if (detail::incremental_checks())
@@ -308,11 +451,9 @@ bool rebuild_faces_local(Model& md) {
 std::vector<Index> rebuild_faces(Model& md) {
     State& s = md.s;
     mesh::Mesh& m = s.m;
-    if (rebuild_faces_local(md)) {
+    if (std::vector<Index> nmap; rebuild_faces_local(md, nmap)) {
         ++s.stats.face_tables_local;
-        std::vector<Index> identity(m.rest.size());
-        std::iota(identity.begin(), identity.end(), Index(0));
-        return identity;
+        return nmap;
     }
     ++s.stats.face_tables_whole;
     // Tets whose labels were not loaded are unchanged: their faces give them.
