@@ -174,8 +174,15 @@ void drop_dead_cells(Model& md, const std::vector<Index>& dead) {
         }
         for (Index n : at(m.cells, h).nodes)
             std::replace(at(s.node_cells, n).begin(), at(s.node_cells, n).end(), L, h);
-        if (at(s.changed, h))
-            s.changed_list.push_back(h);
+        // A moved tet is reported changed: the caller's model makes it again and sums its
+        // nodes' masses again in the new cell order, as a whole rebuild would (bit for bit;
+        // summed in the old order they differed in the last bits, which ElasticModel's check
+        // under POLYCUT_CHECK_UNDO refused).
+        if (!at(s.changed, h)) {
+            at(s.changed, h) = 1;
+            ++s.touched;
+        }
+        s.changed_list.push_back(h);
         s.grid.touch(h);
         at(cmap, L) = h;
         at(is_dead, h) = 0;
