@@ -44,13 +44,17 @@ void expect_superset(cut::detail::Editor& ed, std::mt19937& rng, double reach, i
         }
     }
 }
-} // namespace
-
-TEST(EditorGrid, CellsNearHoldEveryCellThePassOverTheMeshFinds) {
+/// Kuhn tets of an 8 x 8 x 8 grid over a 10 cm cube.
+mesh::Mesh block() {
     mesh::BoxGrid g;
     g.hi = Vec3::Constant(0.1);
     g.cells = Eigen::Vector3i(8, 8, 8);
-    mesh::Mesh m = mesh::tet_grid(g);
+    return mesh::tet_grid(g);
+}
+} // namespace
+
+TEST(EditorGrid, CellsNearHoldEveryCellThePassOverTheMeshFinds) {
+    mesh::Mesh m = block();
     cut::CutOptions opt;
     cut::detail::Editor ed(m, opt);
     std::mt19937 rng(11);
@@ -77,10 +81,7 @@ TEST(EditorGrid, CellsNearFollowTheCellsThroughARenumbering) {
     // Cells removed and the rest moved down (what merge_slivers does): the grid renames the ids
     // it filed instead of being built again, and still finds every cell the pass finds, and no
     // id twice; a map that does not keep the order makes it build again, with the same result.
-    mesh::BoxGrid g;
-    g.hi = Vec3::Constant(0.1);
-    g.cells = Eigen::Vector3i(8, 8, 8);
-    mesh::Mesh m = mesh::tet_grid(g);
+    mesh::Mesh m = block();
     cut::CutOptions opt;
     cut::detail::Editor ed(m, opt);
     std::mt19937 rng(12);

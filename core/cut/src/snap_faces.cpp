@@ -132,6 +132,15 @@ void check_face_table(const mesh::Mesh& m) {
     }
 }
 
+/// The deferred tets under a compaction's cell map (old id -> new id, kNone: deleted).
+void remap_deferred(State& s, const std::vector<Index>& cmap) {
+    std::vector<Index> deferred;
+    for (Index c : s.deferred)
+        if (c < Index(cmap.size()) && at(cmap, c) != kNone)
+            deferred.push_back(at(cmap, c));
+    s.deferred = std::move(deferred);
+}
+
 // Takes the tets deleted by degeneracy removal (dead) out of the cell arrays: the last live tet
 // takes the id of each, so only the moved tets change ids (the whole rebuild shifted every tet
 // after the first deleted one, and the caller's model then followed all of them). Their faces
@@ -155,16 +164,7 @@ void drop_dead_cells(Model& md, const std::vector<Index>& dead) {
         if (end <= h)
             break;
         const Index L = --end; // live, above h
-        at(m.cells, h) = std::move(at(m.cells, L));
-        at(md.labels, h) = at(md.labels, L);
-        at(s.marks, h) = at(s.marks, L);
-        at(s.selected, h) = at(s.selected, L);
-        at(s.changed, h) = at(s.changed, L);
-        at(s.cell_old, h) = at(s.cell_old, L);
-        at(s.cell_parent, h) = at(s.cell_parent, L);
-        at(s.cell_volume, h) = at(s.cell_volume, L);
-        at(s.box, h) = at(s.box, L);
-        at(s.box_ok, h) = at(s.box_ok, L);
+        md.move_cell(L, h);
         for (Index f : at(m.cells, h).faces) {
             mesh::Face& face = at(m.faces, f);
             if (face.owner == L)
@@ -192,29 +192,16 @@ void drop_dead_cells(Model& md, const std::vector<Index>& dead) {
         --end;
     for (Index c : dead)
         at(cmap, c) = kNone;
-    std::vector<Index> deferred;
-    for (Index c : s.deferred)
-        if (c < Index(cmap.size()) && at(cmap, c) != kNone)
-            deferred.push_back(at(cmap, c));
-    s.deferred = std::move(deferred);
-    const auto n = std::size_t(end);
-    m.cells.resize(n);
-    md.labels.resize(n);
-    s.marks.resize(n);
-    s.selected.resize(n);
-    s.changed.resize(n);
-    s.cell_old.resize(n);
-    s.cell_parent.resize(n);
-    s.cell_volume.resize(n);
-    s.box.resize(n);
-    s.box_ok.resize(n);
+    remap_deferred(s, cmap);
+    md.resize_cells(end);
 }
 
 // Takes the nodes this call made and left without tets (orphans, ascending) out the same way:
 // the last node takes the id of each (nodes made by the call are the last ones, so pre-call ids
 // never move). Renames them in the tets, faces, weights, duplications and the pending faces'
 // keys; returns the node map (old -> new id, kNone for an orphan).
-std::vector<Index> drop_orphan_nodes(State& s, const std::vector<Index>& orphans, std::vector<Key>& pend) {
+std::vector<Index> drop_orphan_nodes(
+    State& s, const std::vector<Index>& orphans, std::vector<Key>& pend) {
     mesh::Mesh& m = s.m;
     std::vector<Index> nmap(m.rest.size());
     std::iota(nmap.begin(), nmap.end(), Index(0));
@@ -481,31 +468,12 @@ std::vector<Index> rebuild_faces(Model& md) {
             continue;
         }
         at(cmap, c) = nc;
-        const std::size_t to = std::size_t(nc++), from = std::size_t(c);
-        if (to == from)
-            continue;
-        m.cells[to] = std::move(m.cells[from]);
-        md.labels[to] = md.labels[from];
-        s.marks[to] = s.marks[from];
-        s.selected[to] = s.selected[from];
-        s.changed[to] = s.changed[from];
-        s.cell_old[to] = s.cell_old[from];
-        s.cell_parent[to] = s.cell_parent[from];
-        s.cell_volume[to] = s.cell_volume[from];
+        if (nc != c)
+            md.move_cell(c, nc);
+        ++nc;
     }
-    std::vector<Index> deferred;
-    for (Index c : s.deferred)
-        if (c < Index(cmap.size()) && at(cmap, c) != kNone)
-            deferred.push_back(at(cmap, c));
-    s.deferred = std::move(deferred);
-    for (auto* v : { &s.cell_old, &s.cell_parent })
-        v->resize(std::size_t(nc));
-    s.cell_volume.resize(std::size_t(nc));
-    m.cells.resize(std::size_t(nc));
-    md.labels.resize(std::size_t(nc));
-    s.marks.resize(std::size_t(nc));
-    s.selected.resize(std::size_t(nc));
-    s.changed.resize(std::size_t(nc));
+    remap_deferred(s, cmap);
+    md.resize_cells(nc);
     s.changed_list.clear(); // renumbered: listed again from the flags
     for (Index c = 0; c < nc; ++c)
         if (at(s.changed, c))

@@ -113,16 +113,7 @@ void Model::undo_journal(Journal& j) {
     s.node_cells.resize(std::size_t(j.nodes));
     for (auto& [n, cells] : j.node_cells_before)
         at(s.node_cells, n) = std::move(cells);
-    const std::size_t nc = std::size_t(j.cells);
-    s.m.cells.resize(nc);
-    labels.resize(nc);
-    s.marks.resize(nc);
-    s.selected.resize(nc);
-    s.box.resize(nc);
-    s.box_ok.resize(nc);
-    s.changed.resize(nc);
-    s.cell_old.resize(nc);
-    s.cell_parent.resize(nc);
+    resize_cells(j.cells);
     for (auto& old : j.cells_before) {
         at(s.m.cells, old.c).nodes = std::move(old.nodes);
         at(labels, old.c) = old.labels;
@@ -144,6 +135,34 @@ void Model::set_cell(Index c, const Tet& t) {
         at(s.node_cells, n).push_back(c);
     }
     s.touch(c);
+}
+
+void Model::move_cell(Index from, Index to) {
+    at(s.m.cells, to) = std::move(at(s.m.cells, from));
+    at(labels, to) = at(labels, from);
+    at(s.marks, to) = at(s.marks, from);
+    at(s.selected, to) = at(s.selected, from);
+    at(s.changed, to) = at(s.changed, from);
+    at(s.cell_old, to) = at(s.cell_old, from);
+    at(s.cell_parent, to) = at(s.cell_parent, from);
+    if (std::size_t(from) < s.cell_volume.size() && std::size_t(to) < s.cell_volume.size())
+        at(s.cell_volume, to) = at(s.cell_volume, from);
+    at(s.box, to) = at(s.box, from);
+    at(s.box_ok, to) = at(s.box_ok, from);
+}
+
+void Model::resize_cells(Index n) {
+    const auto k = std::size_t(n);
+    s.m.cells.resize(k);
+    labels.resize(k);
+    s.marks.resize(k);
+    s.selected.resize(k);
+    s.changed.resize(k);
+    s.cell_old.resize(k);
+    s.cell_parent.resize(k);
+    s.cell_volume.resize(std::min(k, s.cell_volume.size())); // end() measures the rest
+    s.box.resize(k);
+    s.box_ok.resize(k);
 }
 
 void Model::kill(Index c) {

@@ -115,6 +115,12 @@ struct Model {
     void set_cell(Index c, const Tet& t);
     /// Deletes cell c (its node list becomes empty; compacted by rebuild_faces).
     void kill(Index c);
+    /// A compaction's move of tet `from` to id `to`: its cell (nodes, faces), labels and
+    /// per-tet state (marks, flags, pre-call ids, cached volume and bounds). Callers rename the
+    /// faces and adjacency that name it.
+    void move_cell(Index from, Index to);
+    /// Keeps the first n tets, with their labels and per-tet state.
+    void resize_cells(Index n);
     /// Appends a tet with face labels l, a child of cell `parent`.
     Index add_cell(const Tet& t, const Labels& l, Index parent);
     /// Splits simplex `sigma` (an edge or a face, node ids) at Xm with interpolation weights w:

@@ -9,8 +9,8 @@
 #include <array>
 #include <limits>
 #include <numeric>
-#include <utility>
 #include <span>
+#include <utility>
 
 namespace polycut::elasticity {
 
@@ -87,8 +87,7 @@ void ElasticModel::build_pattern(std::vector<char> affected, std::vector<Index> 
     const std::vector<int> old_outer = std::move(m_outer);
     std::vector<int> old_inner = std::exchange(m_inner, std::move(m_spare.inner));
     const std::vector<Index> old_diag = std::move(m_diag_slots);
-    std::vector<int> old_block
-        = std::exchange(m_block_scatter, std::move(m_spare.block_scatter));
+    std::vector<int> old_block = std::exchange(m_block_scatter, std::move(m_spare.block_scatter));
     const std::vector<std::size_t> old_scatter_offset = std::move(m_scatter_offset);
     std::vector<int> old_scatter = std::exchange(m_scatter, std::move(m_spare.scatter));
     const std::vector<Index> old_dof_map = std::move(m_dof_map);
