@@ -114,6 +114,10 @@ public:
     /// arrival order. Never throws; strokes that could not be cut (nothing changed for them) go
     /// to take_rejections().
     void flush_sweeps();
+    /// Finishes the sweep of a stroke (end_stroke) or of a `cut` request (`from_cut`, stroke 0)
+    /// whose triangles are all cut: Simulation::end_stroke; a finish that fails (undone) goes to
+    /// take_rejections() under the method "end_stroke" or "cut".
+    void finish_sweep(const std::string& client, bool from_cut, std::uint64_t stroke);
     /// Strokes whose sweeps were rejected since the last call (clears the list).
     std::vector<SweepRejection> take_rejections() { return std::exchange(m_rejections, {}); }
     /// Wall time of the cuts applied since the last call [ms] (resets it).
@@ -221,8 +225,9 @@ private:
         std::uint64_t stroke = 0;
         std::array<Vec3, 3> triangle; ///< world space [m]
         bool from_cut = false; ///< the deferred rest of a `cut` request (stroke 0)
-        /// Not a triangle: the stroke's end_stroke came while triangles of it were deferred;
-        /// the stroke is finished once they are cut.
+        /// Not a triangle: the stroke's end_stroke came while triangles of it were deferred
+        /// (or, with from_cut, a `cut` request's triangles were); the stroke (the request's
+        /// sweep) is finished once they are cut.
         bool end = false;
     };
     std::vector<PendingSweep> m_pending_sweep;

@@ -80,15 +80,20 @@ void Session::flush_sweeps() {
             carried.push_back(std::move(end));
             continue;
         }
-        const sim::CutSummary finish = m_sim->end_stroke();
-        m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
-        if (!finish.ok()) {
-            m_rejections.push_back({ head.client, "end_stroke", head.stroke, 0,
-                make_error(ErrorCode::CutRejected, "/params/stroke", finish.reason) });
-        }
+        finish_sweep(head.client, head.from_cut, head.stroke);
     }
     carried.insert(carried.end(), m_pending_sweep.begin(), m_pending_sweep.end());
     m_pending_sweep = std::move(carried);
+}
+
+void Session::finish_sweep(const std::string& client, bool from_cut, std::uint64_t stroke) {
+    const sim::CutSummary finish = m_sim->end_stroke();
+    m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
+    if (!finish.ok()) {
+        m_rejections.push_back({ client, from_cut ? "cut" : "end_stroke", stroke, 0,
+            make_error(ErrorCode::CutRejected, from_cut ? "/params" : "/params/stroke",
+                finish.reason) });
+    }
 }
 
 std::size_t Session::pending_sweep_triangles() const {
@@ -191,6 +196,18 @@ ApplyOutcome Session::cut(const protocol::CutParams& p, std::string_view client)
     const auto deferred = static_cast<std::size_t>(summary->triangles_deferred);
     for (std::size_t t = world.size() - deferred; t < world.size(); ++t) {
         m_pending_sweep.push_back({ std::string(client), 0, world[t], true, false });
+    }
+    // A `cut` is one whole sweep: once its last triangle is cut, the sweep is finished as a
+    // stroke's is at end_stroke (face snapping cuts the faces it held back; without this they
+    // waited for some scalpel stroke to end, ~4 % of a plane's cut on the block).
+    if (deferred > 0) {
+        PendingSweep end;
+        end.client = std::string(client);
+        end.from_cut = true;
+        end.end = true;
+        m_pending_sweep.push_back(std::move(end));
+    } else {
+        finish_sweep(std::string(client), true, 0);
     }
     if (deferred < world.size()) {
         m_cut_since_step.push_back(

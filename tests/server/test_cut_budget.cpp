@@ -200,6 +200,31 @@ TEST_P(CutBudget, TheTriangleBudgetSpreadsALongCutOverTicks) {
     EXPECT_NEAR(area / reference, 1.0, 0.03);
 }
 
+TEST_P(CutBudget, ACutRequestIsAWholeSweepFinishedAfterItsLastTriangle) {
+    // A `cut` is one sweep: face snapping cuts the faces it held back (pinched edges) once the
+    // request's last triangle is cut, as at a stroke's end. Before, they waited for some scalpel
+    // stroke to end: a stroke of one sample ended afterwards still cut more of the first cut
+    // (the small block, 1 cm tets: 9 of the 12 cm2 here, completeness 0.75). Whole at once,
+    // and spread over ticks by the budget (the finish comes after the carried triangles).
+    for (const int budget : { 0, 6 }) {
+        load(budget);
+        const CutResult cut = client->ok<CutResult>(CutParams { long_incision(4) });
+        EXPECT_EQ(cut.triangles + cut.deferred, 8u);
+        EXPECT_LE(drain(200), 200);
+        const Stats done = client->stats();
+        ASSERT_GT(done.cut_area, 0.0);
+        // 2 x the swept area within the face-conforming bound of docs/scenes.md.
+        EXPECT_NEAR(done.cut_completeness, 1.0, 0.1) << "budget " << budget;
+        client->notify(ScalpelParams { 9, { 0.0, 0.015, 0.03 }, { 0.0, 0.015, 0.025 } });
+        client->ok<CutResult>(EndStrokeParams { 9 });
+        client->ok<RunState>(StepParams { 1 });
+        const Stats after = client->stats();
+        EXPECT_EQ(after.cut_area, done.cut_area)
+            << "budget " << budget << ": a later stroke's end cut more of the `cut`";
+        EXPECT_EQ(after.topology_version, done.topology_version) << "budget " << budget;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cutters, CutBudget, ::testing::Values(false, true),
     [](const ::testing::TestParamInfo<bool>& param) {
         return param.param ? std::string("CellSplitting") : std::string("FaceSnapping");
