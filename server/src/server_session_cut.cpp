@@ -91,8 +91,8 @@ void Session::finish_sweep(const std::string& client, bool from_cut, std::uint64
     m_cells = static_cast<std::uint32_t>(m_sim->cell_count());
     if (!finish.ok()) {
         m_rejections.push_back({ client, from_cut ? "cut" : "end_stroke", stroke, 0,
-            make_error(ErrorCode::CutRejected, from_cut ? "/params" : "/params/stroke",
-                finish.reason) });
+            make_error(
+                ErrorCode::CutRejected, from_cut ? "/params" : "/params/stroke", finish.reason) });
     }
 }
 
