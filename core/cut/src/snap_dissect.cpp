@@ -49,6 +49,16 @@ struct Pinch {
     /// are checked again after each face dropped near it, and most checks asked for the same
     /// few stars again (the pinch checks were ~40 % of a random soup's face-snapping cut).
     mutable std::unordered_map<Index, std::vector<std::size_t>> stars;
+    /// The interior faces joining two tets of a node's star (slots in its node_cells, the
+    /// smaller first), found once per node: a Pinch lives within one pass over a mesh that only
+    /// changes which faces are cut (in `extra`), and grouping a star again after a change then
+    /// reads these instead of searching each tet's faces and neighbours (~45 % of a random
+    /// soup's face-snapping cut was that search).
+    struct Link {
+        std::uint32_t i, j;
+        Index face;
+    };
+    mutable std::unordered_map<Index, std::vector<Link>> links;
 
     /// Face f was added to or taken from `extra`.
     void changed(Index f) const {
@@ -59,8 +69,38 @@ struct Pinch {
     const std::vector<std::size_t>& star(Index a) const {
         auto it = stars.find(a);
         if (it == stars.end())
-            it = stars.emplace(a, groups(at(s.node_cells, a), { a })).first;
+            it = stars.emplace(a, star_groups(a)).first;
         return it->second;
+    }
+
+    const std::vector<Link>& star_links(Index a) const {
+        auto it = links.find(a);
+        if (it != links.end())
+            return it->second;
+        const auto& cells = at(s.node_cells, a);
+        std::vector<Link> out;
+        for (std::size_t i = 0; i < cells.size(); ++i)
+            for (Index f : at(s.m.cells, cells[i]).faces) {
+                const mesh::Face& face = at(s.m.faces, f);
+                if (face.boundary() || face.owner != cells[i] || !has(face.nodes, a))
+                    continue; // each interior face once, from its owner
+                const auto jt = std::find(cells.begin(), cells.end(), face.neighbour);
+                if (jt != cells.end())
+                    out.push_back({ std::uint32_t(i), std::uint32_t(jt - cells.begin()), f });
+            }
+        return links.emplace(a, std::move(out)).first->second;
+    }
+
+    // groups(node_cells(a), { a }) from the star's links.
+    std::vector<std::size_t> star_groups(Index a) const {
+        Dsu d(at(s.node_cells, a).size());
+        for (const Link& l : star_links(a))
+            if (!extra.count(l.face))
+                d.join(l.i, l.j);
+        std::vector<std::size_t> root(d.p.size());
+        for (std::size_t i = 0; i < root.size(); ++i)
+            root[i] = d.find(i);
+        return root;
     }
 
     bool cut(Index f) const { return at(s.m.faces, f).boundary() || extra.count(f) > 0; }
@@ -116,82 +156,6 @@ struct Pinch {
         return false;
     }
 };
-
-// 002's closest-node selection on an irregular mesh can wrap a tet on the far side of the
-// sweep: a tet with a face in the sweep plane whose apex node is marked by the tets around it,
-// so the faces at the apex are selected too. Snapping the apex would flatten that tet; when the
-// snap is refused (snap_min_aspect) the selected faces enclose the tet, which touches its side
-// only at the apex node and would come off as a tiny extra piece. Such newly enclosed pieces of
-// fewer than min_piece_cells tets are found by a bounded flood fill through the faces that stay
-// interior, and their selected faces are dropped: the piece stays with the tets across them.
-Index keep_small_pieces(State& s, std::unordered_set<Index>& take, std::vector<Index>& dropped) {
-    const Index limit = s.opt.min_piece_cells;
-    if (limit <= 0)
-        return 0;
-    std::vector<Index> seeds;
-    for (Index f : take) {
-        seeds.push_back(at(s.m.faces, f).owner);
-        seeds.push_back(at(s.m.faces, f).neighbour);
-    }
-    std::sort(seeds.begin(), seeds.end());
-    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
-    std::unordered_set<Index> done;
-    Index merged = 0;
-    for (Index seed : seeds) {
-        if (done.count(seed))
-            continue;
-        std::vector<Index> piece { seed };
-        std::unordered_set<Index> in { seed };
-        for (std::size_t i = 0; i < piece.size() && Index(piece.size()) < limit; ++i)
-            for (Index f : at(s.m.cells, piece[i]).faces) {
-                const mesh::Face& face = at(s.m.faces, f);
-                if (face.boundary() || take.count(f))
-                    continue;
-                const Index other = face.owner == piece[i] ? face.neighbour : face.owner;
-                if (in.insert(other).second)
-                    piece.push_back(other);
-            }
-        done.insert(piece.begin(), piece.end());
-        if (Index(piece.size()) >= limit)
-            continue;
-        // Closed and small: glue it to the tet across its selected faces lying farthest on its
-        // side of the sweep, dropping only the faces shared with that tet. Gluing it to more
-        // tets could bridge the two sides where the cut folds around it.
-        const SweepPlane& P = s.recent.back();
-        auto side = [&](Index c) {
-            Vec3 mid = Vec3::Zero();
-            for (Index n : at(s.m.cells, c).nodes)
-                mid += s.X(n) / 4.0;
-            return P.distance(mid);
-        };
-        double own = 0;
-        for (Index c : piece)
-            own += side(c);
-        Index join = kNone;
-        double best = 0;
-        for (Index c : piece)
-            for (Index f : at(s.m.cells, c).faces)
-                if (take.count(f)) {
-                    const mesh::Face& face = at(s.m.faces, f);
-                    const Index other = face.owner == c ? face.neighbour : face.owner;
-                    if (side(other) * own > best) {
-                        best = side(other) * own;
-                        join = other;
-                    }
-                }
-        std::vector<Index> drop;
-        for (Index c : piece)
-            for (Index f : at(s.m.cells, c).faces)
-                if (take.count(f)
-                    && (at(s.m.faces, f).owner == join || at(s.m.faces, f).neighbour == join))
-                    drop.push_back(f);
-        for (Index f : drop)
-            take.erase(f);
-        dropped.insert(dropped.end(), drop.begin(), drop.end());
-        merged += drop.empty() ? 0 : 1;
-    }
-    return merged;
-}
 
 // Whether the sweep has passed all around x: for a triangle of the sweep holding x, the circle of
 // radius r around x in its plane (12 points) lies in the union of the sweep's triangles. The
@@ -298,7 +262,7 @@ void split_node(State& s, Index n) {
     if (cells.size() < 2)
         return;
     const std::unordered_set<Index> none;
-    const auto root = Pinch { s, none, {} }.groups(cells, { n });
+    const auto root = Pinch { s, none, {}, {} }.groups(cells, { n });
     std::vector<std::vector<Index>> groups;
     std::vector<std::size_t> roots;
     for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -417,7 +381,7 @@ void dissect_pending(State& s, bool everything) {
     };
     // Hold back faces until no edge of a taken face is pinched. Holding a face back can only
     // pinch edges at its own nodes, so only faces sharing a node with it are re-checked.
-    const Pinch pinch { s, take, {} };
+    const Pinch pinch { s, take, {}, {} };
     // Positions in `order` of the faces at each node: the newest taken face at a pinched edge
     // and the faces sharing a node with a dropped one are found among the faces at its nodes,
     // not by a pass over `order` each (a random soup held ~1,000 faces: quadratic).
@@ -530,7 +494,7 @@ void open_pinches(State& s, bool force, const std::unordered_set<Index>* only) {
     std::unordered_set<Index> chosen;
     std::vector<Index> faces, rest;
     std::vector<std::pair<Index, Index>> edges;
-    const Pinch pinch { s, chosen, {} };
+    const Pinch pinch { s, chosen, {}, {} };
     for (Index f : s.pending) {
         const mesh::Face& face = at(s.m.faces, f);
         if (face.boundary())

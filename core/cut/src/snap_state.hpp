@@ -188,6 +188,11 @@ void open_pinches(State& s, bool force = false, const std::unordered_set<Index>*
 /// Duplicates node n once per group of its tets not connected through interior faces at n.
 void split_node(State& s, Index n);
 
+// snap_pieces.cpp: 002's closest-node selection on an irregular mesh can enclose a tet or two on
+// the far side of the sweep. Drops from `take` the faces that would cut off a piece of fewer than
+// SnapOptions::min_piece_cells tets (appending them to `dropped`); returns the pieces kept.
+Index keep_small_pieces(State& s, std::unordered_set<Index>& take, std::vector<Index>& dropped);
+
 // snap_degenerate.cpp: 002 sec. 3.2.3. Collapses degenerate tets among the changed cells (or
 // among all cells), cuts free what no collapse removes.
 void remove_degeneracies(State& s, bool all_cells = false);
