@@ -50,7 +50,7 @@ struct Pinch {
     /// few stars again (the pinch checks were ~40 % of a random soup's face-snapping cut).
     mutable std::unordered_map<Index, std::vector<std::size_t>> stars;
     /// The interior faces joining two tets of a node's star (slots in its node_cells, the
-    /// smaller first), found once per node: a Pinch lives within one pass over a mesh that only
+    /// owner first), found once per node: a Pinch lives within one pass over a mesh that only
     /// changes which faces are cut (in `extra`), and grouping a star again after a change then
     /// reads these instead of searching each tet's faces and neighbours (~45 % of a random
     /// soup's face-snapping cut was that search).
