@@ -84,6 +84,26 @@ def load_json(path):
         return json.load(f)
 
 
+def load_scene(path):
+    """A scene file with the files it names (`path`, and `surface` given as a string: relative
+    to the scene file, docs/scenes.md) made absolute, so that the copy the runner writes
+    elsewhere, with the cutter set, still finds them."""
+    base = os.path.dirname(os.path.abspath(path))
+
+    def fix(node):
+        if isinstance(node, dict):
+            for key, value in node.items():
+                if key in ("path", "surface") and isinstance(value, str):
+                    node[key] = os.path.normpath(os.path.join(base, value))
+                else:
+                    fix(value)
+        elif isinstance(node, list):
+            for value in node:
+                fix(value)
+        return node
+    return fix(load_json(path))
+
+
 def cutter_of(scene):
     cutting = scene.get("cutting") or {}
     if "method" in cutting:
@@ -173,7 +193,7 @@ def build_variants(args):
     cutters = [c for c in args.cutters.split(",") if c]
     default = [os.path.join(REPO, "assets", "scenes", "default.json")]
     for path in [] if args.organ_only else args.scene or default:
-        scene = load_json(path)
+        scene = load_scene(path)
         if args.no_gravity:
             scene.setdefault("loads", {}).pop("gravity", None)
         base = os.path.splitext(os.path.basename(path))[0]
@@ -184,7 +204,7 @@ def build_variants(args):
                                     path if unchanged else None))
     if args.organ or args.organ_only:
         if args.organ_scene:
-            organ = load_json(args.organ_scene)
+            organ = load_scene(args.organ_scene)
             name = os.path.splitext(os.path.basename(args.organ_scene))[0]
         else:
             organ = organ_scene(load_json(os.path.join(REPO, "assets", "scenes", "default.json")),
