@@ -298,7 +298,11 @@ TEST(SweepCut, CoarseningKeepsTheGeometryWithFewerNodes) {
     const auto [fine, none] = run(false);
     const auto [coarse, removed] = run(true);
     EXPECT_EQ(none, 0);
-    EXPECT_GT(removed, 10);
+    // 547 -> 534 used nodes (13 coarsened) until the faces of unsplit cells counted as in the
+    // plane within the cell-size snapping distance too (sweep_cut.cpp); since, the curved
+    // incision takes more faces into its crack as they are and makes fewer nodes to begin
+    // with: 526 -> 516 (10).
+    EXPECT_GE(removed, 10);
     const double v0 = block(4).rest_volume();
     expect_ok(fine, v0);
     expect_ok(coarse, v0);

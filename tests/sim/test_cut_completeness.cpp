@@ -25,9 +25,10 @@ constexpr double kSnapCompleteness = 0.8;
 /// Cell splitting follows the blade exactly: cut area = 2 x swept area to 1 %.
 constexpr double kSplitTolerance = 0.01;
 
-/// The grids of the default block, and the CGAL-meshed organ-like blob (10 x 6.4 x 4.4 cm about
-/// the origin, 6 mm cells: irregular tets, no plane of faces anywhere).
-enum class Grid { KuhnTet, FiveTet, Hex, Organ };
+/// The grids of the default block, the CGAL-meshed organ-like blob (10 x 6.4 x 4.4 cm about the
+/// origin, 6 mm cells: irregular tets, no plane of faces anywhere), and the blob in an adaptive
+/// octree of hexes (organ_octree.json: 2 cm inside, 5 mm at the skin; polyhedra where levels meet).
+enum class Grid { KuhnTet, FiveTet, Hex, Organ, Octree };
 
 std::string scene_json(Grid grid, bool split) {
     nlohmann::json s = nlohmann::json::parse(R"({"name": "completeness",
@@ -56,6 +57,12 @@ std::string scene_json(Grid grid, bool split) {
         s["geometry"] = nlohmann::json::parse(
             R"({"type": "implicit", "shape": "blob", "cell_size": 0.006, "seed": 0})");
         // A patch of the underside, as in the organ scenes.
+        s["fixed"] = nlohmann::json::parse(
+            R"([{"box": {"min": [-0.06, -0.05, -0.03], "max": [0.06, 0.04, -0.0175]}}])");
+        break;
+    case Grid::Octree:
+        s["geometry"] = nlohmann::json::parse(R"({"type": "octree", "shape": "blob",
+            "cell_size": 0.02, "surface_cell_size": 0.005, "keep": "centre"})");
         s["fixed"] = nlohmann::json::parse(
             R"([{"box": {"min": [-0.06, -0.05, -0.03], "max": [0.06, 0.04, -0.0175]}}])");
         break;
@@ -91,6 +98,16 @@ std::vector<Blade> slanted_stroke(
         const double t = double(k) / double(samples - 1);
         const double x = x0 + (x1 - x0) * t, y = y0 + (y1 - y0) * t;
         out.push_back({ Vec3(x, y, z_high), Vec3(x, y, z_low) });
+    }
+    return out;
+}
+
+/// Blade a-b translated by `move` over `samples` positions.
+std::vector<Blade> translated(const Blade& first, const Vec3& move, int samples) {
+    std::vector<Blade> out;
+    for (int k = 0; k < samples; ++k) {
+        const Vec3 d = move * (double(k) / double(samples - 1));
+        out.push_back({ first.a + d, first.b + d });
     }
     return out;
 }
@@ -215,6 +232,14 @@ std::vector<Case> cases() {
     }
     // The organ (face snapping, issue 12 item 2 "CGAL tet meshes"): from 2 cm above its top
     // (z ~ 0.02 m) to z = 0, 6 cm along x, at one tick per 2 mm and at 0.1 mm per tick.
+    // The octree organ (cell splitting, MVC polyhedra where levels meet): a blade leaning 12
+    // degrees off the octree's planes (the rest-space plane of the live client's blade through
+    // the top-most node of the organ resting on its table), 6 cm along x at 60 Hz for 3 s. The
+    // live stroke itself, which left a hole of a cell's width, is replayed by the server test
+    // server_replay_octree_cut.
+    out.push_back({ "split_octree_leaning", Grid::Octree, true,
+        { translated({ Vec3(-0.03, -0.0127, 0.0461), Vec3(-0.03, -0.0048, 0.0087) },
+            Vec3(0.06, 0, 0), 181) } });
     for (const auto& [what, blades] :
         { std::pair { "across", stroke(0.0025, -0.03, 0.03, 0.0, 0.04, 31) },
             std::pair { "slow", stroke(0.0025, -0.005, 0.005, 0.0, 0.04, 101) } }) {
