@@ -66,3 +66,88 @@ INSTANTIATE_TEST_SUITE_P(Bases, Reproduction,
     ::testing::Values(Case { "p1_tets", 0 }, Case { "q1_hexes", 1 }, Case { "mean_value", 2 },
         Case { "harmonic", 3 }),
     [](const auto& param_info) { return std::string(param_info.param.name); });
+
+TEST(Embedding, APointOnTheCornerOfACutHexPieceTakesThatCorner) {
+    // A cut piece with a hexahedron's faces is a Hex (Mesh::classify_cell) and its points take
+    // trilinear weights by Newton on its map. The piece below (node order VTK, coordinates as
+    // the live case had them) is so warped that Newton, started at its centre, did not reach its
+    // node 6 from there: weights up to 2.2e9, and the skin vertex on that node came out 2e7 m
+    // away (organ_embedded, cell splitting, 4 frames). A point on a node takes that node; all
+    // follow an affine motion.
+    const std::vector<Vec3> rest { { -0.019381533941272108, -0.012350499604351164,
+                                       0.017546899883631256 },
+        { -0.014718646027865628, -0.010652811186395689, 0.010379288629181247 },
+        { -0.013885230330046489, -0.011526336515270387, 0.0073828167033083234 },
+        { -0.020729842448680771, -0.014825063851087523, 0.016728345191229441 },
+        { -0.019651054787077363, -0.012235068934718313, 0.017012547249666585 },
+        { -0.019306415790258154, -0.010756879282638023, 0.010473911796887423 },
+        { -0.020618086315536008, -0.010786632967223899, 0.01050096512051016 },
+        { -0.022157415828903643, -0.011161642007256292, 0.01204343022139035 } };
+    const mesh::Mesh m = mesh::Mesh::from_hexes(rest, { { 0, 1, 2, 3, 4, 5, 6, 7 } });
+    ASSERT_EQ(m.cells[0].shape, mesh::CellShape::Hex);
+    const std::vector<Vec3> points { rest[6], rest[6] + Vec3(1e-13, -2e-13, 1e-13) };
+    const embed::Embedding e = embed::embed_points(m, points, basis::PolyBasis::MeanValue);
+    for (std::uint32_t k = e.offsets[0]; k < e.offsets[1]; ++k)
+        EXPECT_EQ(e.weights[k], m.rest[std::size_t(e.nodes[k])] == rest[6] ? 1.0 : 0.0);
+    for (const double w : e.weights)
+        EXPECT_LE(std::abs(w), 10.0);
+    Mat3 A;
+    A << 1.2, 0.3, -0.1, 0.05, 0.8, 0.2, -0.15, 0.1, 1.1;
+    const Vec3 shift(0.3, -0.1, 0.05);
+    std::vector<Vec3> x;
+    for (const Vec3& X : m.rest)
+        x.push_back(A * X + shift);
+    for (std::size_t i = 0; i < e.rest.size(); ++i)
+        EXPECT_LT((embed::deformed_vertex(e, x, i) - (A * e.rest[i] + shift)).norm(), 1e-12)
+            << "point " << i;
+}
+
+TEST(Embedding, PointsOnAndBesideTheFacesOfPolyhedraKeepSaneWeights) {
+    // A vertex that a cut's split of the surface puts on a Cut face lies on a face, an edge or
+    // a corner of its polyhedral cell, where mean value coordinates divide by its distance to
+    // them (they take a point within 1e-12 of the cell's size as on the surface). Points at
+    // each face's centroid, corner and edge middle, and 1e-14 .. 1e-6 of the way from them to
+    // the cell's centre: every weight within 10 in size, and an affine motion reproduced to
+    // 1e-9 m.
+    mesh::BoxGrid g;
+    g.lo = Vec3(0, 0, 0);
+    g.hi = Vec3(0.04, 0.03, 0.03);
+    g.cells = Eigen::Vector3i(4, 3, 3);
+    const mesh::Mesh m = mesh::merged_hex_grid(g, 0.6, 3);
+    std::vector<Vec3> points;
+    for (Index c = 0; c < m.num_cells(); ++c) {
+        const mesh::Cell& cell = m.cells[std::size_t(c)];
+        if (cell.nodes.size() <= 8)
+            continue; // a hex (trilinear) or a tet: not a polyhedron's basis
+        Vec3 centre = Vec3::Zero();
+        for (const Index n : cell.nodes)
+            centre += m.rest[std::size_t(n)] / double(cell.nodes.size());
+        for (const Index f : cell.faces) {
+            const auto& loop = m.faces[std::size_t(f)].nodes;
+            Vec3 fc = Vec3::Zero();
+            for (const Index n : loop)
+                fc += m.rest[std::size_t(n)] / double(loop.size());
+            // the face's centroid, its first corner and the middle of its first edge
+            for (const Vec3& p : { fc, m.rest[std::size_t(loop[0])],
+                     Vec3(0.5 * (m.rest[std::size_t(loop[0])] + m.rest[std::size_t(loop[1])])) })
+                for (const double s : { 0.0, 1e-14, 1e-12, 1e-10, 1e-8, 1e-6 })
+                    points.push_back(p + s * (centre - p));
+        }
+    }
+    ASSERT_GT(points.size(), 100u);
+    const embed::Embedding e = embed::embed_points(m, points, basis::PolyBasis::MeanValue);
+    double largest = 0;
+    for (const double w : e.weights)
+        largest = std::max(largest, std::abs(w));
+    EXPECT_LE(largest, 10.0);
+    Mat3 A;
+    A << 1.2, 0.3, -0.1, 0.05, 0.8, 0.2, -0.15, 0.1, 1.1;
+    const Vec3 shift(0.3, -0.1, 0.05);
+    std::vector<Vec3> x;
+    for (const Vec3& X : m.rest)
+        x.push_back(A * X + shift);
+    double worst = 0;
+    for (std::size_t i = 0; i < e.rest.size(); ++i)
+        worst = std::max(worst, (embed::deformed_vertex(e, x, i) - (A * e.rest[i] + shift)).norm());
+    EXPECT_LT(worst, 1e-9);
+}

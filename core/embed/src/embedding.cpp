@@ -10,6 +10,7 @@
 #include "polycut/common/error.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <map>
 #include <memory>
 
@@ -24,6 +25,35 @@ VecX affine_fit_weights(const std::vector<Vec3>& nodes, const Vec3& X) {
         P.row(Index(i)) << nodes[i].transpose(), 1.0;
     const Eigen::Vector4d x(X.x(), X.y(), X.z(), 1.0);
     return P * (P.transpose() * P).ldlt().solve(x);
+}
+
+/// The diagonal of the bounding box of a cell's nodes [m].
+double cell_diagonal(const std::vector<Vec3>& nodes) {
+    Vec3 lo = nodes.front(), hi = nodes.front();
+    for (const Vec3& p : nodes) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    return (hi - lo).norm();
+}
+
+/// A point this close to a node, relative to the cell's diagonal, is on it.
+constexpr double kOnNode = 1e-9;
+
+/// Whether w are usable interpolation weights of X over `nodes`: finite, a partition of unity
+/// that reproduces X, none beyond kMaxWeight in size (mean value and trilinear weights inside a
+/// cell lie in [0, 1]; a non-convex piece's may go somewhat negative).
+bool sane_weights(const std::vector<Vec3>& nodes, const Vec3& X, const VecX& w) {
+    constexpr double kMaxWeight = 10;
+    if (!w.allFinite() || w.size() != Eigen::Index(nodes.size()) || w.size() == 0
+        || w.cwiseAbs().maxCoeff() > kMaxWeight)
+        return false;
+    Vec3 x = Vec3::Zero();
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+        x += w(Eigen::Index(k)) * nodes[k];
+    constexpr double kTolerance = 1e-6; // of the cell's diagonal
+    return std::abs(w.sum() - 1) <= kTolerance
+        && (x - X).norm() <= kTolerance * cell_diagonal(nodes);
 }
 
 /// Trilinear weights of X in the hex (VTK order), by Newton on the Q1 map.
@@ -135,8 +165,22 @@ Embedding embed_points(const mesh::Mesh& mesh, std::vector<Vec3> positions,
             }
             pc.evaluate(X, w);
         }
-        if (!w.allFinite()) // a point on a face of a polyhedron the basis cannot take there:
-            w = affine_fit_weights(nodes, X); // the cell's affine fit, exact for affine motions
+        // A point at (or a hair off) a corner of a polyhedron, where its basis is singular (the
+        // mean value coordinates of a point 1e-10 of a cell beside a corner divide by nearly
+        // zero): weights that are not finite, or finite but huge and cancelling. A skin vertex
+        // on a node of a cell that a cut had split came out 2e7 m away (organ_embedded, cell
+        // splitting, 4 frames). A point on a node takes that node; any other point whose
+        // weights are not sane takes the cell's affine fit, exact for affine motions.
+        if (!sane_weights(nodes, X, w)) {
+            const auto at = std::min_element(nodes.begin(), nodes.end(),
+                [&X](const Vec3& a, const Vec3& b) { return (a - X).norm() < (b - X).norm(); });
+            if ((*at - X).norm() <= kOnNode * cell_diagonal(nodes)) {
+                w = VecX::Zero(Eigen::Index(nodes.size()));
+                w(at - nodes.begin()) = 1;
+            } else {
+                w = affine_fit_weights(nodes, X);
+            }
+        }
         for (Index k = 0; k < w.size(); ++k) {
             e.nodes.push_back(c.nodes[std::size_t(k)]);
             e.weights.push_back(w(k));
