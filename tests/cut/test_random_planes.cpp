@@ -111,3 +111,67 @@ TEST(WorldToRest, NearRefitFindsExactlyTheCellsTheFullGridFinds) {
     EXPECT_FALSE(capped.refit_near(world, region, 3));
     EXPECT_EQ(capped.candidates(region), grid.candidates(region));
 }
+
+TEST(WorldToRest, FitsATriangleToItsPartInsideTheTissue) {
+    // fit_triangle: one affine map of the triangle's own parameters, fitted to the rest images
+    // of its points inside the tissue (each through its cell). Under an affine deformation it
+    // is exact, the corners outside the tissue included.
+    auto m = block(3);
+    Mat3 A;
+    A << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0, 0.1, 1.2;
+    const Vec3 t(0.3, -0.1, 0.2);
+    std::vector<Vec3> world;
+    for (const Vec3& X : m.rest)
+        world.push_back(A * X + t);
+    cut::WorldToRest map(m);
+    geometry::Aabb region;
+    for (const Vec3& x : world)
+        region.extend(x);
+    ASSERT_TRUE(map.refit_near(world, region));
+    const std::array<Vec3, 3> rest { Vec3(0.02, 0.05, 0.01), Vec3(0.08, 0.05, 0.03),
+        Vec3(0.05, 0.06, 0.25) }; // the third corner 15 cm above the 10 cm block
+    const cut::Triangle w { A * rest[0] + t, A * rest[1] + t, A * rest[2] + t };
+    const auto fit = map.fit_triangle(w, world, 0.01);
+    ASSERT_TRUE(fit.has_value());
+    for (std::size_t k = 0; k < 3; ++k)
+        EXPECT_LT(((*fit)[k] - rest[k]).norm(), 1e-12) << "corner " << k;
+    // Wholly outside, or inside only along a line of it: no map from it.
+    const Vec3 far(0, 0, 1);
+    EXPECT_FALSE(map.fit_triangle({ w[0] + far, w[1] + far, w[2] + far }, world, 0.01));
+    const std::array<Vec3, 3> edge { Vec3(0.02, 0.05, 0.0995), Vec3(0.08, 0.05, 0.0995),
+        Vec3(0.05, 0.05, 0.3) }; // 0.5 mm of its 20 cm height inside
+    EXPECT_FALSE(
+        map.fit_triangle({ A * edge[0] + t, A * edge[1] + t, A * edge[2] + t }, world, 0.01));
+}
+
+TEST(WorldToRest, FollowsTheTissueUnderTheTriangleThroughACrushedLayer) {
+    // The block's top half crushed to a quarter of its height (tets: the map is exact in each
+    // cell, with a kink at z = 5 cm): a vertical blade from 1 cm up to 6 cm, 1 cm into the
+    // crushed layer (whose rest image is 4 cm). One triangle cannot bend with the kink: its fit
+    // stays in the blade's plane (y = 4.37 cm), comes out taller than the world blade (5 cm)
+    // and shorter than the exact image of its apex above its base (9 - 1 = 8 cm), and its
+    // bottom corners, deep in the uncrushed half, stay within 2 mm of where they are.
+    mesh::BoxGrid g;
+    g.hi = Vec3::Constant(0.1);
+    g.cells = Eigen::Vector3i(4, 4, 4);
+    const auto m = mesh::tet_grid(g);
+    std::vector<Vec3> world;
+    for (const Vec3& X : m.rest)
+        world.push_back(X.z() <= 0.05 ? X : Vec3(X.x(), X.y(), 0.05 + 0.25 * (X.z() - 0.05)));
+    cut::WorldToRest map(m);
+    geometry::Aabb region;
+    for (const Vec3& x : world)
+        region.extend(x);
+    ASSERT_TRUE(map.refit_near(world, region));
+    const cut::Triangle w { Vec3(0.02, 0.0437, 0.01), Vec3(0.08, 0.0437, 0.01),
+        Vec3(0.05, 0.0437, 0.06) };
+    const auto fit = map.fit_triangle(w, world, 0.005);
+    ASSERT_TRUE(fit.has_value());
+    for (std::size_t k = 0; k < 3; ++k)
+        EXPECT_NEAR((*fit)[k].y(), 0.0437, 1e-12) << "corner " << k;
+    const double height = (*fit)[2].z() - 0.5 * ((*fit)[0].z() + (*fit)[1].z());
+    EXPECT_GT(height, 0.05);
+    EXPECT_LT(height, 0.08);
+    EXPECT_LT(std::abs((*fit)[0].z() - 0.01), 2e-3);
+    EXPECT_LT(std::abs((*fit)[1].z() - 0.01), 2e-3);
+}

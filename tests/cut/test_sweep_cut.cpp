@@ -325,3 +325,50 @@ TEST(SweepCut, CoarseningKeepsTheGeometryWithFewerNodes) {
     EXPECT_NEAR(coarse.rest_volume(), fine.rest_volume(), 1e-12 * v0);
     EXPECT_NEAR(boundary_area(coarse), boundary_area(fine), 1e-9 * boundary_area(fine));
 }
+
+TEST(SweepCut, OnlyFacesUnderTheTriangleMoveOntoItsPlane) {
+    // Faces in the plane that a triangle's bounds hold but the triangle does not cover stay
+    // where they are: moving their nodes onto a plane turned by a hair (the deformation maps
+    // each strip of a stroke to a slightly different rest plane) changed every cell at them
+    // for nothing the cut keeps (a strip through the pressed organ: 10 cells split, 140 more
+    // changed by such moves). The lower half of an 8^3 hex block is split by the plane
+    // y = 0.0531 (interior faces in it), then a triangle in that plane turned by 1e-6 rad cuts
+    // from above down to the lower half along one diagonal.
+    auto m = block(8);
+    const double v0 = m.rest_volume();
+    cut::Cutter cutter(m);
+    const Vec3 n0 = Vec3::UnitY();
+    std::vector<Index> lower;
+    for (Index c = 0; c < m.num_cells(); ++c) {
+        double z = 0;
+        for (Index v : m.cells[std::size_t(c)].nodes)
+            z += m.rest[std::size_t(v)].z() / double(m.cells[std::size_t(c)].nodes.size());
+        if (z < 0.05)
+            lower.push_back(c);
+    }
+    cutter.split_by_plane(Vec3(0, 0.0531, 0), n0, lower);
+    expect_ok(m, v0);
+    // The triangle: from (0.03, 0.1) and (0.07, 0.1) at the top down to (0.07, 0.02), in the
+    // plane through (0.05, 0.0531, 0.06) whose normal is turned by 1e-6 rad about x.
+    const Vec3 o(0.05, 0.0531, 0.06);
+    const Vec3 n = Vec3(0, std::cos(1e-6), std::sin(1e-6));
+    const auto on = [&](double x, double z) {
+        Vec3 p(x, 0.0531, z);
+        return Vec3(p - (p - o).dot(n) * n);
+    };
+    const cut::Triangle tri { on(0.03, 0.1), on(0.07, 0.02), on(0.07, 0.1) };
+    const auto r = cutter.cut(std::vector<cut::Triangle> { tri });
+    expect_ok(m, v0);
+    EXPECT_FALSE(r.cut_faces.empty());
+    // The nodes the cut moved are nodes of the cells the triangle crosses: none lies beyond its
+    // long edge by more than a cell's diagonal in the plane (17.7 mm). With every face in the
+    // plane moved, 20 nodes moved instead of 12, some farther than that beyond the edge.
+    const Vec3 a = tri[0], b = tri[1];
+    const Vec3 out = n.cross(b - a).normalized(); // from the long edge away from the triangle
+    ASSERT_GT((tri[2] - a).dot(-out), 0);
+    std::size_t beyond = 0;
+    for (const auto& [node, old_rest] : r.moved_nodes)
+        if ((old_rest - a).dot(out) > std::sqrt(2.0) * 0.0125 * (1 + 1e-9))
+            ++beyond;
+    EXPECT_EQ(beyond, 0u) << r.moved_nodes.size() << " nodes moved";
+}

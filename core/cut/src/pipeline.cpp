@@ -200,6 +200,17 @@ struct CutPipeline::Impl {
         return true;
     }
 
+    /// Whether the rest image r of world triangle w is longer or larger than kMaxRestStretch
+    /// times w: mapped through folded or crushed tissue.
+    static bool stretched(const Triangle& w, const Triangle& r) {
+        const auto longest = [](const Triangle& t) {
+            return std::max({ (t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm() });
+        };
+        const auto area
+            = [](const Triangle& t) { return 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm(); };
+        return longest(r) > kMaxRestStretch * longest(w) || area(r) > kMaxRestStretch * area(w);
+    }
+
     /// Tets (of `near`) whose world positions have turned them inside out, for the call's
     /// CutResult::inverted_cells. Polyhedral cells are not checked (an affine fit per cell would
     /// cost more than the mapping).
@@ -290,8 +301,20 @@ struct CutPipeline::Impl {
                 }
                 const Mat3 Ainv = fit.A.inverse();
                 for (std::size_t k = 0; k < 3; ++k)
-                    if (!known[k]) {
+                    if (!known[k])
                         r[k] = Ainv * (tri[k] - fit.t);
+                if (stretched(tri, r)) {
+                    // One fit over every node of the cells the triangle's bounds meet averages
+                    // a deformation that varies across them (a soft block pressed flat above its
+                    // fixed base: a 6 cm blade came out 15-23 cm long and was not cut at all):
+                    // the triangle's own map, fitted to the points of it inside the tissue.
+                    if (const auto own = world_grid->fit_triangle(tri, positions, 0.5 * cell_size))
+                        for (std::size_t k = 0; k < 3; ++k)
+                            if (!known[k])
+                                r[k] = (*own)[k];
+                }
+                for (std::size_t k = 0; k < 3; ++k)
+                    if (!known[k]) {
                         if (previous) {
                             // In the previous triangle's plane in world space (a straight
                             // stroke), or close to its rest plane: onto that rest plane. The
@@ -333,11 +356,7 @@ struct CutPipeline::Impl {
                 ++result.skipped; // collapsed in rest space: nothing to cut
                 continue;
             }
-            const double world_longest = std::max(
-                { (tri[1] - tri[0]).norm(), (tri[2] - tri[1]).norm(), (tri[0] - tri[2]).norm() });
-            if (mapped
-                && (longest > kMaxRestStretch * world_longest
-                    || 0.5 * normal.norm() > kMaxRestStretch * area)) {
+            if (mapped && stretched(tri, r)) {
                 ++result.skipped; // through a fold: see kMaxRestStretch
                 ++result.stretched;
                 continue;

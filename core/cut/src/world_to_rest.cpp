@@ -248,6 +248,83 @@ Vec3 WorldToRest::map_point(const Vec3& x) const {
     return m_inverse[std::size_t(c)] * (x - m_fit[std::size_t(c)].t);
 }
 
+std::optional<Triangle> WorldToRest::fit_triangle(
+    const Triangle& w, std::span<const Vec3> world, double max_edge) const {
+    const double longest
+        = std::max({ (w[1] - w[0]).norm(), (w[2] - w[1]).norm(), (w[0] - w[2]).norm() });
+    const int n = std::clamp(max_edge > 0 ? int(std::ceil(longest / max_edge)) : 2, 2, 16);
+    // A point counts as inside a cell within this fraction of the cell's rest size (the
+    // piecewise fits of neighbouring polyhedra leave hairline gaps between them).
+    constexpr double kInside = 1e-3;
+    std::vector<std::pair<Index, std::pair<Mat3, Vec3>>> fits; // per cell met: A^-1, t
+    const auto fit_of = [&](Index c) -> const std::pair<Mat3, Vec3>* {
+        for (const auto& f : fits)
+            if (f.first == c)
+                return &f.second;
+        std::vector<Vec3> X, x;
+        for (Index v : m_mesh.cells[std::size_t(c)].nodes) {
+            X.push_back(m_mesh.rest[std::size_t(v)]);
+            x.push_back(world[std::size_t(v)]);
+        }
+        const geometry::AffineFit fit = geometry::fit_affine(X, x);
+        if (!fit.ok || !(std::abs(fit.A.determinant()) > 1e-12))
+            return nullptr;
+        fits.push_back({ c, { fit.A.inverse(), fit.t } });
+        return &fits.back().second;
+    };
+    // Least squares X(u, v) = X0 + u E1 + v E2 over the lattice points inside the tissue.
+    Eigen::Matrix3d N = Eigen::Matrix3d::Zero(); // sum of p p^T, p = (1, u, v)
+    Eigen::Matrix3d B = Eigen::Matrix3d::Zero(); // sum of p X^T
+    int inside = 0;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i + j <= n; ++i) {
+            const double u = double(i) / n, v = double(j) / n;
+            const Vec3 x = (1 - u - v) * w[0] + u * w[1] + v * w[2];
+            geometry::Aabb box;
+            box.extend(x);
+            double best = std::numeric_limits<double>::infinity();
+            Index best_cell = kNone;
+            Vec3 image = Vec3::Zero();
+            for (Index c : candidates(box)) {
+                const auto* f = fit_of(c);
+                if (!f)
+                    continue;
+                const Vec3 X = f->first * (x - f->second);
+                const double d = depth_outside(c, X);
+                if (d < best) {
+                    best = d;
+                    best_cell = c;
+                    image = X;
+                }
+            }
+            if (best_cell == kNone)
+                continue;
+            geometry::Aabb rest_box;
+            for (Index node : m_mesh.cells[std::size_t(best_cell)].nodes)
+                rest_box.extend(m_mesh.rest[std::size_t(node)]);
+            if (!(best <= kInside * rest_box.diagonal()))
+                continue;
+            const Eigen::Vector3d p(1, u, v);
+            N += p * p.transpose();
+            B += p * image.transpose();
+            ++inside;
+        }
+    if (inside < 3)
+        return std::nullopt;
+    // The points inside must span the triangle's parameters in both directions (the whole
+    // triangle's (u, v) have variances 1/18 and covariance -1/36): a sliver of them along an
+    // edge would extrapolate the rest of the triangle from a line.
+    constexpr double kMinSpread = 1e-3;
+    const Eigen::Vector2d mean = N.block<2, 1>(1, 0) / N(0, 0);
+    const Eigen::Matrix2d cov = N.block<2, 2>(1, 1) / N(0, 0) - mean * mean.transpose();
+    if (!(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().minCoeff()
+            >= kMinSpread))
+        return std::nullopt;
+    const Eigen::Matrix3d C = N.ldlt().solve(B); // rows: X0, E1, E2
+    const Vec3 X0 = C.row(0).transpose(), E1 = C.row(1).transpose(), E2 = C.row(2).transpose();
+    return Triangle { X0, X0 + E1, X0 + E2 };
+}
+
 std::vector<Triangle> WorldToRest::map_triangle(const Triangle& w, double max_edge) const {
     int n = 1;
     if (max_edge > 0) {

@@ -8,6 +8,7 @@
 #include "polycut/geometry/polyhedron.hpp"
 #include "polycut/mesh/mesh.hpp"
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -53,6 +54,19 @@ public:
     /// into n^2 similar triangles whose edges are at most max_edge, each corner mapped through
     /// its own cell, so the rest cut follows a deformation that varies across the triangle.
     std::vector<Triangle> map_triangle(const Triangle& world, double max_edge = 0) const;
+
+    /// Rest corners of the world triangle `w` from one affine map of the triangle's own
+    /// parameters (u, v), fitted by least squares to the rest images of the points of a
+    /// barycentric lattice (edges at most `max_edge` [m], at least 2 per side) that lie inside
+    /// the tissue, each mapped through the cell containing it (the inverse of that cell's affine
+    /// fit; exact for a tet). Works after refit_near() or refit() (candidates() only) with the
+    /// world positions `world` of the nodes. Where the deformation varies across the cells a
+    /// triangle meets (a block pressed flat above a fixed base), this follows the tissue under
+    /// the triangle and not an average over every node of those cells, and the corners outside
+    /// the tissue follow the triangle's own plane. Empty when fewer than three lattice points
+    /// inside the tissue span the triangle's plane.
+    std::optional<Triangle> fit_triangle(
+        const Triangle& w, std::span<const Vec3> world, double max_edge) const;
 
     /// Cells whose deformed bounds overlap `box`.
     std::vector<Index> candidates(const geometry::Aabb& box) const;
