@@ -36,7 +36,7 @@ TEST(ModelGrowth, ASplitTetBlockGrowsByItsPolyhedraWeightedFour) {
     // The cut tets become polyhedra with more nodes, each now weighted 4: the growth the
     // stats report is that of the weighted sum, well above the plain entries' ratio. A model
     // this small (192 tets) is never refused, whatever the limit; the same cut through a block
-    // above 3,500 tets' entries is.
+    // above 10,400 tets' entries is.
     Simulation s(scene::parse_scene(kTetBlock));
     s.step();
     EXPECT_DOUBLE_EQ(s.mesh_stats().model_growth, 1.0);
@@ -60,21 +60,22 @@ TEST(ModelGrowth, ASplitTetBlockGrowsByItsPolyhedraWeightedFour) {
         text.replace(text.find(from), from.size(), R"("cells": )" + cells);
         const std::string split = R"("cutting": {"method": "split"})";
         text.replace(text.find(split), split.size(),
-            R"("cutting": {"method": "split", "max_model_growth": )" + std::to_string(limit) + "}");
+            R"("cutting": {"method": "split", "max_cells_per_tick": 0, "max_model_growth": )"
+                + std::to_string(limit) + "}");
         return text;
     };
     Simulation small(scene::parse_scene(with(kTetBlock, "[4, 4, 2]", 1.0001)));
     small.step();
     EXPECT_EQ(small.cut(sweep).status, CutSummary::Status::Applied);
-    // 12 x 12 x 6 blocks, 5,184 tets: 746,496 entries, above the floor; the same plane grows
-    // it (3 times as many cells as the small block's, on 27 times the tets) by less.
-    Simulation big(scene::parse_scene(with(kTetBlock, "[12, 12, 6]", 4)));
+    // 16 x 16 x 8 blocks, 12,288 tets: 1,769,472 entries, above the floor; the same plane grows
+    // it (4 times as many cells as the small block's, on 64 times the tets) by less.
+    Simulation big(scene::parse_scene(with(kTetBlock, "[16, 16, 8]", 4)));
     big.step();
     ASSERT_EQ(big.cut(sweep).status, CutSummary::Status::Applied);
     const double growth = big.mesh_stats().model_growth;
     EXPECT_GT(growth, 1.0);
     EXPECT_LT(growth, st.model_growth);
-    Simulation tight(scene::parse_scene(with(kTetBlock, "[12, 12, 6]", 0.99 * growth)));
+    Simulation tight(scene::parse_scene(with(kTetBlock, "[16, 16, 8]", 0.99 * growth)));
     tight.step();
     const CutSummary refused = tight.cut(sweep);
     EXPECT_EQ(refused.status, CutSummary::Status::Failed);

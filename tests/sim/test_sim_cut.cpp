@@ -98,12 +98,12 @@ TEST(SimulationCut, ACutPastTheModelGrowthLimitIsUndone) {
     // cutting.max_model_growth bounds what a step costs after a cut (a soup of triangles would
     // make cells of ~100 nodes): past it the cut is undone and reported, and the simulation goes
     // on with the model as it was. Any split adds nodes and nonzeros, so a limit of 1.0001
-    // refuses this one; the default (4) takes it. A block of 3,600 tets: below ~3,500 tets'
+    // refuses this one; the default (4) takes it. A block of 11,760 tets: below ~10,400 tets'
     // entries a model is never refused (ModelGrowth.*).
     std::string text = kBlock;
     text.replace(text.find(R"("cells": [4, 4, 4], "elements": "hex")"),
         std::string(R"("cells": [4, 4, 4], "elements": "hex")").size(),
-        R"("cells": [10, 10, 6], "elements": "tet")");
+        R"("cells": [14, 14, 10], "elements": "tet")");
     const std::string loose_text = text;
     text.insert(text.rfind('}'), R"(, "cutting": {"max_model_growth": 1.0001})");
     sim::Simulation tight(scene::parse_scene(text));

@@ -198,11 +198,14 @@ void Simulation::Impl::check_model_growth() const {
     const double growth = scene.cutting.max_model_growth;
     if (!model || !(growth > 0) || !(initial_element_cost > 0))
         return;
-    // A model this small steps in about a millisecond whatever a cut makes of it (3,500 tets'
-    // entries, ~0.5 ms of assembly and ~0.2-0.8 ms per PCG iteration at the rates element_cost
-    // was calibrated at): a relative limit would refuse a cut across a coarse mesh (a full cut
-    // through 384 tets grows them ~4.5 times) for no tick's sake.
-    constexpr double kCostFloor = 5e5;
+    // A model this small steps in a few milliseconds whatever a cut makes of it (10,400 tets'
+    // entries, ~1.5 ms of assembly and ~0.5-2.5 ms per PCG iteration at the rates element_cost
+    // was calibrated at): a relative limit would refuse a cut across a coarse mesh for no
+    // tick's sake. With 5e5 a single incision through organ_dg's 1,031 tets (as cell-splitting
+    // polyhedra) was refused from its 37th sample on (4.07 times the uncut cost; rest
+    // completeness 0.83, 0.70 through nodes) while its steps took 1.6-1.8 ms at the p99; let
+    // through, 0.99-1.00 with steps of 1.8-3.1 ms at the p99 (decision 0081).
+    constexpr double kCostFloor = 1.5e6;
     const double cost = element_cost(mesh);
     if (cost > std::max(growth * initial_element_cost, kCostFloor)) {
         char text[256];
