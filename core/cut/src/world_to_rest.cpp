@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -256,21 +257,22 @@ std::optional<Triangle> WorldToRest::fit_triangle(
     // A point counts as inside a cell within this fraction of the cell's rest size (the
     // piecewise fits of neighbouring polyhedra leave hairline gaps between them).
     constexpr double kInside = 1e-3;
-    std::vector<std::pair<Index, std::pair<Mat3, Vec3>>> fits; // per cell met: A^-1, t
-    const auto fit_of = [&](Index c) -> const std::pair<Mat3, Vec3>* {
-        for (const auto& f : fits)
-            if (f.first == c)
-                return &f.second;
+    // Per cell met: the inverse of its affine fit and the fit's translation, or nothing when
+    // its nodes do not span 3D.
+    std::map<Index, std::optional<std::pair<Mat3, Vec3>>> fits;
+    const auto fit_of = [&](Index c) -> const std::optional<std::pair<Mat3, Vec3>>& {
+        const auto [it, fresh] = fits.try_emplace(c);
+        if (!fresh)
+            return it->second;
         std::vector<Vec3> X, x;
         for (Index v : m_mesh.cells[std::size_t(c)].nodes) {
             X.push_back(m_mesh.rest[std::size_t(v)]);
             x.push_back(world[std::size_t(v)]);
         }
         const geometry::AffineFit fit = geometry::fit_affine(X, x);
-        if (!fit.ok || !(std::abs(fit.A.determinant()) > 1e-12))
-            return nullptr;
-        fits.push_back({ c, { fit.A.inverse(), fit.t } });
-        return &fits.back().second;
+        if (fit.ok && std::abs(fit.A.determinant()) > 1e-12)
+            it->second.emplace(fit.A.inverse(), fit.t);
+        return it->second;
     };
     // Least squares X(u, v) = X0 + u E1 + v E2 over the lattice points inside the tissue.
     Eigen::Matrix3d N = Eigen::Matrix3d::Zero(); // sum of p p^T, p = (1, u, v)
@@ -286,7 +288,7 @@ std::optional<Triangle> WorldToRest::fit_triangle(
             Index best_cell = kNone;
             Vec3 image = Vec3::Zero();
             for (Index c : candidates(box)) {
-                const auto* f = fit_of(c);
+                const auto& f = fit_of(c);
                 if (!f)
                     continue;
                 const Vec3 X = f->first * (x - f->second);
