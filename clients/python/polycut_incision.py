@@ -426,14 +426,14 @@ def cases_for(frame, args):
                       [("settle", args.settle), ("stroke", std(off)), ("stroke", std(off))]))
     # A second stroke at right angles through the first one's middle: it crosses the opened
     # cut (its lips apart in world space, one plane in rest space).
-    Vr = frame.rest_positions
     xc = F.xc + 0.0025
     half_y = min(0.5 * (F.x1 - F.x0), 0.4 * float(F.hi[1] - F.lo[1]))
     ys = (F.y - half_y, F.y + half_y)
-    strip = (np.abs(Vr[:, 0] - xc) <= 0.005) & (Vr[:, 1] >= ys[0]) & (Vr[:, 1] <= ys[1])
-    zc = float(Vr[strip, 2].max()) if strip.any() else F.z_top
-    if F.box is not None:
-        zc = F.z_top
+    zc = F.z_top
+    if F.box is None:  # the highest rest vertex under the second blade's path
+        Vr = frame.rest_positions
+        strip = (np.abs(Vr[:, 0] - xc) <= 0.005) & (Vr[:, 1] >= ys[0]) & (Vr[:, 1] <= ys[1])
+        zc = float(Vr[strip, 2].max()) if strip.any() else F.z_top
     cross = Stroke([[xc, ys[0], zc + F.above], [xc, ys[1], zc + F.above]],
                    [0.0, 0.0, -(F.above + F.depth)], seconds=sec)
     cases.append(Case("crossing", "a second stroke at right angles across the first one, "

@@ -14,6 +14,17 @@
 using namespace polycut;
 
 namespace {
+// The affine deformation the world-to-rest tests invert: x = kA X + kT.
+const Mat3 kA = (Mat3() << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0, 0.1, 1.2).finished();
+const Vec3 kT(0.3, -0.1, 0.2);
+
+std::vector<Vec3> affine_world(const mesh::Mesh& m) {
+    std::vector<Vec3> world;
+    for (const Vec3& X : m.rest)
+        world.push_back(kA * X + kT);
+    return world;
+}
+
 mesh::Mesh block(int n, double size = 0.1) {
     mesh::BoxGrid g;
     g.lo = Vec3::Zero();
@@ -61,14 +72,10 @@ TEST(RandomPlanes, GridStaysConformingAndDeterministic) {
 
 TEST(WorldToRest, InvertsAffineDeformation) {
     auto m = block(3);
-    Mat3 A;
-    A << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0, 0.1, 1.2;
-    const Vec3 t(0.3, -0.1, 0.2);
-    std::vector<Vec3> world;
-    for (const Vec3& X : m.rest)
-        world.push_back(A * X + t);
+    const Mat3& A = kA;
+    const Vec3& t = kT;
     cut::WorldToRest map(m);
-    map.refit(world);
+    map.refit(affine_world(m));
     const Vec3 X(0.031, 0.052, 0.077);
     EXPECT_LT((map.map_point(A * X + t) - X).norm(), 1e-12);
     const cut::Triangle w { A * Vec3(0.01, 0.01, 0.01) + t, A * Vec3(0.09, 0.02, 0.05) + t,
@@ -119,12 +126,9 @@ TEST(WorldToRest, FitsATriangleToItsPartInsideTheTissue) {
     // of its points inside the tissue (each through its cell). Under an affine deformation it
     // is exact, the corners outside the tissue included.
     auto m = block(3);
-    Mat3 A;
-    A << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0, 0.1, 1.2;
-    const Vec3 t(0.3, -0.1, 0.2);
-    std::vector<Vec3> world;
-    for (const Vec3& X : m.rest)
-        world.push_back(A * X + t);
+    const Mat3& A = kA;
+    const Vec3& t = kT;
+    const std::vector<Vec3> world = affine_world(m);
     cut::WorldToRest map(m);
     geometry::Aabb region;
     for (const Vec3& x : world)

@@ -68,9 +68,8 @@ double overlap_area(std::vector<Vec2> subject, const std::vector<Vec2>& clip) {
 void thin_zero_runs(
     const PlaneClassifier& side, const std::vector<Index>& loop, std::vector<int>& s) {
     const std::size_t k = loop.size();
-    for (std::size_t i = 0; i < k; ++i) {
+    for (std::size_t a = 0; a < k; ++a) {
         // a nonzero node followed by a run of at least two zeros and then the other sign
-        const std::size_t a = i;
         if (s[a] == 0 || s[(a + 1) % k] != 0)
             continue;
         std::size_t b = (a + 1) % k, run = 0;
@@ -95,25 +94,20 @@ void thin_zero_runs(
     }
 }
 
-/// Whether the face with nodes `loop` (in the plane of `cls`, normal n) may lie under the
-/// triangle: it is not wholly beyond the side plane of one of the triangle's edges by more than
-/// a node's snapping distance there (the clip of split_along_triangle, with its side
-/// classifiers' distances, and the node's distance to the cut plane on top: a skin node slides
-/// up to twice that far as it moves onto the plane).
-bool may_cover(Editor& ed, const PlaneClassifier& cls, const Triangle& tri, const Vec3& n,
+/// Whether the face with nodes `loop` (in the plane of `cls`) may lie under the triangle whose
+/// edges' side planes are `sides`: it is not wholly beyond one of them by more than a node's
+/// snapping distance there (as the clip of split_along_triangle tests it), with the node's
+/// distance to the cut plane on top (a skin node slides up to twice that far as it moves onto
+/// the plane). Distances, not the sides' cached signs: the nodes have not moved yet.
+bool may_cover(Editor& ed, const PlaneClassifier& cls, const std::vector<PlaneClassifier>& sides,
     const std::vector<Index>& loop) {
-    for (std::size_t i = 0; i < 3; ++i) {
-        const Vec3& a = tri[i];
-        const Vec3 side = (tri[(i + 1) % 3] - a).cross(n).normalized();
-        const bool beyond = std::all_of(loop.begin(), loop.end(), [&](Index v) {
+    return std::none_of(sides.begin(), sides.end(), [&](const PlaneClassifier& side) {
+        return std::all_of(loop.begin(), loop.end(), [&](Index v) {
             const double eps = std::max(ed.opt.edge_snap * ed.cell_size(), ed.snap_eps(v))
                 + 2 * std::abs(cls.distance(v));
-            return side.dot(at(ed.m.rest, v) - a) > eps;
+            return side.distance(v) > eps;
         });
-        if (beyond)
-            return false;
-    }
-    return true;
+    });
 }
 } // namespace
 
@@ -232,6 +226,14 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
         }
     }
 
+    // Each edge's side plane is perpendicular to the cut plane, + outside (the clip below).
+    std::vector<PlaneClassifier> sides;
+    for (int i = 0; i < 3; ++i) {
+        const Vec3 s = (tri[std::size_t((i + 1) % 3)] - tri[std::size_t(i)]).cross(n).normalized();
+        sides.emplace_back(
+            ed, Plane { s, s.dot(tri[std::size_t(i)]) }, ed.opt.edge_snap * ed.cell_size());
+    }
+
     // Nodes snapped onto the plane move onto it (decision 0057): the interface faces the splits
     // make, and the faces found in the plane, are then in it exactly, and the stroke's next
     // triangles in the same plane find them there even after the splits have shrunk the nodes'
@@ -248,7 +250,7 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
             for (Index v : at(m.cells, c).nodes)
                 cls.project_onto_plane(v);
         for (Index f : plane_faces)
-            if (may_cover(ed, cls, tri, n, at(m.faces, f).nodes))
+            if (may_cover(ed, cls, sides, at(m.faces, f).nodes))
                 for (Index v : at(m.faces, f).nodes)
                     cls.project_onto_plane(v);
     }
@@ -262,15 +264,8 @@ std::vector<Index> split_along_triangle(Editor& ed, const Triangle& tri) {
     plane_faces.erase(std::unique(plane_faces.begin(), plane_faces.end()), plane_faces.end());
 
     // Clip each face in the plane by the triangle's edges (000 sec. 5.2: "the polygon edges are
-    // intersected with edges in the simulation mesh ... faces in the cut plane are split"). Each
-    // edge's side plane is perpendicular to the cut plane, + outside; the pieces outside stay
-    // interior faces, all convex.
-    std::vector<PlaneClassifier> sides;
-    for (int i = 0; i < 3; ++i) {
-        const Vec3 s = (tri[std::size_t((i + 1) % 3)] - tri[std::size_t(i)]).cross(n).normalized();
-        sides.emplace_back(
-            ed, Plane { s, s.dot(tri[std::size_t(i)]) }, ed.opt.edge_snap * ed.cell_size());
-    }
+    // intersected with edges in the simulation mesh ... faces in the cut plane are split") with
+    // the side planes of its edges; the pieces outside stay interior faces, all convex.
     std::vector<Index> crack;
     for (Index f : plane_faces) {
         if (at(m.faces, f).boundary())
